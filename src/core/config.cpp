@@ -1,0 +1,220 @@
+#include "core/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace core {
+
+namespace {
+std::string join(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+std::string range_text(double lo, double hi, const std::string& unit) {
+  std::ostringstream s;
+  s << "[" << lo << ", " << hi << "]" << (unit.empty() ? "" : " " + unit);
+  return s.str();
+}
+}  // namespace
+
+ConfigNode::ConfigNode(YAML::Node node, std::string path, std::string file)
+    : node_(std::move(node)),
+      path_(std::move(path)),
+      file_(std::move(file)),
+      used_(std::make_shared<std::set<std::string>>()),
+      children_(std::make_shared<std::vector<std::string>>()) {}
+
+ConfigNode ConfigNode::load_file(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw ConfigError("config: cannot open '" + file + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return load_string(ss.str(), file);
+}
+
+ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("config " + name + ": not valid YAML: " + e.what());
+  }
+  if (!root.IsMap()) throw ConfigError("config " + name + ": the top level must be a mapping of keys");
+  return ConfigNode(root, "", name);
+}
+
+std::string ConfigNode::where(const std::string& key) const {
+  return "config " + file_ + ": key '" + join(path_, key) + "'";
+}
+
+void ConfigNode::fail(const std::string& key, const std::string& what) const {
+  throw ConfigError(where(key) + ": " + what);
+}
+
+void ConfigNode::mark(const std::string& key) const { used_->insert(join(path_, key)); }
+
+bool ConfigNode::has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined(); }
+
+YAML::Node ConfigNode::get(const std::string& key) const {
+  if (!has(key)) fail(key, "missing (required)");
+  mark(key);
+  return node_[key];
+}
+
+ConfigNode ConfigNode::child(const std::string& key) const {
+  YAML::Node n = get(key);
+  if (!n.IsMap()) fail(key, "must be a mapping of keys");
+  ConfigNode c(n, join(path_, key), file_);
+  c.used_ = used_;
+  c.children_ = children_;
+  children_->push_back(c.path_);
+  return c;
+}
+
+ConfigNode ConfigNode::child_or_empty(const std::string& key) const {
+  if (has(key)) return child(key);
+  ConfigNode c(YAML::Node(YAML::NodeType::Map), join(path_, key), file_);
+  c.used_ = used_;
+  c.children_ = children_;
+  return c;
+}
+
+double ConfigNode::number(const std::string& key, double lo, double hi, const std::string& unit,
+                          double scale) const {
+  YAML::Node n = get(key);
+  double v = 0;
+  try {
+    if (!n.IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "not a scalar");
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be a number in " + range_text(lo, hi, unit));
+  }
+  if (!std::isfinite(v) || v < lo || v > hi) {
+    std::ostringstream s;
+    s << "value " << v << " is out of range; accepted " << range_text(lo, hi, unit);
+    fail(key, s.str());
+  }
+  return v * scale;
+}
+
+double ConfigNode::number_or(const std::string& key, double fallback, double lo, double hi,
+                             const std::string& unit, double scale) const {
+  return has(key) ? number(key, lo, hi, unit, scale) : fallback;
+}
+
+int ConfigNode::integer(const std::string& key, long lo, long hi) const {
+  YAML::Node n = get(key);
+  long v = 0;
+  try {
+    v = n.as<long>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be an integer in " + range_text(lo, hi, ""));
+  }
+  if (v < lo || v > hi) {
+    fail(key, "value " + std::to_string(v) + " is out of range; accepted " + range_text(lo, hi, ""));
+  }
+  return static_cast<int>(v);
+}
+
+int ConfigNode::integer_or(const std::string& key, int fallback, long lo, long hi) const {
+  return has(key) ? integer(key, lo, hi) : fallback;
+}
+
+bool ConfigNode::boolean(const std::string& key) const {
+  YAML::Node n = get(key);
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail(key, "must be true or false");
+  }
+}
+
+bool ConfigNode::boolean_or(const std::string& key, bool fallback) const {
+  return has(key) ? boolean(key) : fallback;
+}
+
+std::string ConfigNode::text(const std::string& key) const {
+  YAML::Node n = get(key);
+  if (!n.IsScalar()) fail(key, "must be a string");
+  return n.as<std::string>();
+}
+
+std::string ConfigNode::choice(const std::string& key, const std::vector<std::string>& accepted) const {
+  std::string v = text(key);
+  for (const auto& a : accepted)
+    if (a == v) return v;
+  std::string list;
+  for (const auto& a : accepted) list += (list.empty() ? "" : ", ") + a;
+  fail(key, "value '" + v + "' is not accepted; accepted: " + list);
+}
+
+std::string ConfigNode::choice_or(const std::string& key, const std::string& fallback,
+                                  const std::vector<std::string>& accepted) const {
+  return has(key) ? choice(key, accepted) : fallback;
+}
+
+std::vector<double> ConfigNode::numbers(const std::string& key, double lo, double hi,
+                                        const std::string& unit, double scale,
+                                        int exact_length) const {
+  YAML::Node n = get(key);
+  if (!n.IsSequence()) fail(key, "must be a list of numbers in " + range_text(lo, hi, unit));
+  if (exact_length >= 0 && static_cast<int>(n.size()) != exact_length) {
+    fail(key, "must have exactly " + std::to_string(exact_length) + " numbers, has " +
+                  std::to_string(n.size()));
+  }
+  std::vector<double> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    double v = 0;
+    try {
+      v = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      fail(key, "element " + std::to_string(i) + " is not a number");
+    }
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream s;
+      s << "element " << i << " value " << v << " is out of range; accepted " << range_text(lo, hi, unit);
+      fail(key, s.str());
+    }
+    out.push_back(v * scale);
+  }
+  return out;
+}
+
+Eigen::Vector3d ConfigNode::vector3(const std::string& key, double lo, double hi, const std::string& unit,
+                                    double scale) const {
+  auto v = numbers(key, lo, hi, unit, scale, 3);
+  return {v[0], v[1], v[2]};
+}
+
+Eigen::Vector3d ConfigNode::vector3_or(const std::string& key, const Eigen::Vector3d& fallback, double lo,
+                                       double hi, const std::string& unit, double scale) const {
+  return has(key) ? vector3(key, lo, hi, unit, scale) : fallback;
+}
+
+void ConfigNode::finish() const {
+  std::vector<std::string> unknown;
+  // Walk this mapping and every mapping beneath it that was consumed as a child.
+  std::vector<std::pair<YAML::Node, std::string>> todo{{node_, path_}};
+  while (!todo.empty()) {
+    auto [n, p] = todo.back();
+    todo.pop_back();
+    if (!n.IsMap()) continue;
+    for (const auto& kv : n) {
+      std::string full = join(p, kv.first.as<std::string>());
+      if (!used_->count(full)) {
+        unknown.push_back(full);
+      } else if (kv.second.IsMap()) {
+        for (const auto& c : *children_)
+          if (c == full) todo.push_back({kv.second, full});
+      }
+    }
+  }
+  if (!unknown.empty()) {
+    std::string list;
+    for (const auto& u : unknown) list += (list.empty() ? "" : ", ") + u;
+    throw ConfigError("config " + file_ + ": unknown key(s): " + list +
+                      " (check the spelling against launch_free_configs/ and README.md)");
+  }
+}
+
+}  // namespace core

@@ -1,0 +1,75 @@
+#pragma once
+// Validated access to YAML run configurations.
+// Every read names the key path, the accepted range and the unit, so a bad config fails before any
+// simulation with a message a user can act on. Keys never read are reported by finish().
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <memory>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace core {
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A view of one YAML mapping with its key path ("mbd.absorber.k") for messages.
+class ConfigNode {
+ public:
+  ConfigNode(YAML::Node node, std::string path, std::string file);
+
+  static ConfigNode load_file(const std::string& file);        // throws ConfigError
+  static ConfigNode load_string(const std::string& text, const std::string& name = "<string>");
+
+  bool has(const std::string& key) const;
+  ConfigNode child(const std::string& key) const;            // required mapping
+  ConfigNode child_or_empty(const std::string& key) const;   // optional mapping
+
+  // Required number in [lo, hi]; `scale` converts the file's unit to SI (e.g. 1e3 for N/mm -> N/m).
+  double number(const std::string& key, double lo, double hi, const std::string& unit = "",
+                double scale = 1.0) const;
+  double number_or(const std::string& key, double fallback, double lo, double hi,
+                   const std::string& unit = "", double scale = 1.0) const;
+  int integer(const std::string& key, long lo, long hi) const;
+  int integer_or(const std::string& key, int fallback, long lo, long hi) const;
+  bool boolean(const std::string& key) const;
+  bool boolean_or(const std::string& key, bool fallback) const;
+  std::string text(const std::string& key) const;
+  std::string choice(const std::string& key, const std::vector<std::string>& accepted) const;
+  std::string choice_or(const std::string& key, const std::string& fallback,
+                        const std::vector<std::string>& accepted) const;
+  // Fixed-length or free-length list of numbers, each in [lo, hi], scaled to SI.
+  std::vector<double> numbers(const std::string& key, double lo, double hi, const std::string& unit = "",
+                              double scale = 1.0, int exact_length = -1) const;
+  Eigen::Vector3d vector3(const std::string& key, double lo, double hi, const std::string& unit = "",
+                          double scale = 1.0) const;
+  Eigen::Vector3d vector3_or(const std::string& key, const Eigen::Vector3d& fallback, double lo,
+                             double hi, const std::string& unit = "", double scale = 1.0) const;
+
+  // Throws ConfigError naming every key of this mapping (recursively, for children taken with
+  // child()) that no read consumed: catches typos such as "damping_cofficient".
+  void finish() const;
+
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return file_; }
+  YAML::Node raw() const { return node_; }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+
+ private:
+  YAML::Node get(const std::string& key) const;  // required
+  std::string where(const std::string& key) const;
+  void mark(const std::string& key) const;
+
+  YAML::Node node_;
+  std::string path_;
+  std::string file_;
+  std::shared_ptr<std::set<std::string>> used_;  // full key paths consumed, shared across children
+  std::shared_ptr<std::vector<std::string>> children_;  // child paths to check in finish()
+};
+
+}  // namespace core
