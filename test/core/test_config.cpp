@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "core/config.hpp"
+#include "core/units.hpp"
+
+using core::ConfigError;
+using core::ConfigNode;
+
+namespace {
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Config, ReadsNumbersAndConvertsUnits) {
+  auto root = ConfigNode::load_string("a:\n  k: 320\n  c: 100\n");
+  auto a = root.child("a");
+  EXPECT_DOUBLE_EQ(a.number("k", 0, 1e4, "N/mm", core::units::N_per_mm), 320e3);
+  EXPECT_DOUBLE_EQ(a.number("c", 0, 1e4, "N s/mm", core::units::Ns_per_mm), 100e3);
+  EXPECT_NO_THROW(root.finish());
+}
+
+TEST(Config, PowerLawStiffnessConversion) {
+  // Table 1: k = 1e5 N/mm^1.5 -> F(1 mm) = 1e5 N; in SI F(1e-3 m) must be the same 1e5 N.
+  double k_si = core::units::power_law_stiffness_to_si(1e5, 1.5);
+  EXPECT_NEAR(k_si * std::pow(1e-3, 1.5), 1e5, 1e-6);
+}
+
+TEST(Config, MissingKeyIsNamed) {
+  auto root = ConfigNode::load_string("a:\n  k: 1\n");
+  auto msg = message_of([&] { root.child("a").number("c", 0, 10); });
+  EXPECT_NE(msg.find("a.c"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("missing"), std::string::npos) << msg;
+}
+
+TEST(Config, OutOfRangeNamesKeyValueAndRange) {
+  auto root = ConfigNode::load_string("dt: -0.5\n");
+  auto msg = message_of([&] { root.number("dt", 1e-7, 1e-2, "s"); });
+  EXPECT_NE(msg.find("'dt'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("-0.5"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("[1e-07, 0.01] s"), std::string::npos) << msg;
+}
+
+TEST(Config, UnknownKeyIsReportedWithPath) {
+  auto root = ConfigNode::load_string("a:\n  k: 1\n  damping_cofficient: 3\nb: 2\n");
+  root.child("a").number("k", 0, 10);
+  root.number("b", 0, 10);
+  auto msg = message_of([&] { root.finish(); });
+  EXPECT_NE(msg.find("a.damping_cofficient"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("a.k"), std::string::npos) << msg;
+}
+
+TEST(Config, UnreadTopLevelSectionIsUnknown) {
+  auto root = ConfigNode::load_string("a: {k: 1}\nextra: {x: 1}\n");
+  root.child("a").number("k", 0, 10);
+  auto msg = message_of([&] { root.finish(); });
+  EXPECT_NE(msg.find("extra"), std::string::npos) << msg;
+}
+
+TEST(Config, ChoiceListsAcceptedValues) {
+  auto root = ConfigNode::load_string("load: granite\n");
+  auto msg = message_of([&] { root.choice("load", {"none", "bed", "dem"}); });
+  EXPECT_NE(msg.find("none, bed, dem"), std::string::npos) << msg;
+}
+
+TEST(Config, NotANumberAndBadListsRejected) {
+  auto root = ConfigNode::load_string("k: abc\nv: [1, 2]\n");
+  EXPECT_THROW(root.number("k", 0, 1), ConfigError);
+  auto msg = message_of([&] { root.vector3("v", -1, 10); });
+  EXPECT_NE(msg.find("exactly 3"), std::string::npos) << msg;
+}
+
+TEST(Config, InvalidYamlAndMissingFile) {
+  EXPECT_THROW(ConfigNode::load_string("a: [1, 2"), ConfigError);
+  EXPECT_THROW(ConfigNode::load_file("/nonexistent/x.yaml"), ConfigError);
+  EXPECT_THROW(ConfigNode::load_string("- 1\n- 2\n"), ConfigError);
+}
