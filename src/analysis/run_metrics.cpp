@@ -1,0 +1,133 @@
+#include "analysis/run_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace analysis {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+MeanStd stats(const std::vector<double>& v) {
+  MeanStd r;
+  r.samples = static_cast<int>(v.size());
+  if (v.empty()) return r;
+  double s = 0;
+  for (double x : v) s += x;
+  r.mean = s / v.size();
+  double q = 0;
+  for (double x : v) q += (x - r.mean) * (x - r.mean);
+  r.std = v.size() > 1 ? std::sqrt(q / (v.size() - 1)) : 0.0;
+  return r;
+}
+
+// Calls f(begin, end) for each whole drive cycle [t_from + k T, t_from + (k+1) T).
+template <class F>
+void for_each_cycle(const std::vector<double>& t, double speed, double t_from, F f) {
+  if (!(speed > 0)) throw std::invalid_argument("run metrics: drive speed must be > 0 rad/s");
+  const double period = kTwoPi / speed;
+  std::size_t i = std::lower_bound(t.begin(), t.end(), t_from) - t.begin();
+  double start = t_from;
+  while (i < t.size()) {
+    double end = start + period;
+    if (t.back() < end - 1e-12) break;  // incomplete last cycle
+    std::size_t j = i;
+    while (j < t.size() && t[j] < end) ++j;
+    if (j > i + 1) f(i, j);
+    i = j;
+    start = end;
+  }
+}
+
+void json_mean_std(std::ostringstream& o, const char* name, const MeanStd& m) {
+  o << "  \"" << name << "\": {\"mean\": " << m.mean << ", \"std\": " << m.std << ", \"cycles\": " << m.samples
+    << "},\n";
+}
+
+void json_array(std::ostringstream& o, const std::vector<double>& v) {
+  o << "[";
+  for (std::size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
+  o << "]";
+}
+
+std::string escape(const std::string& s) {
+  std::string r;
+  for (char c : s) {
+    if (c == '"' || c == '\\') r += '\\';
+    r += c;
+  }
+  return r;
+}
+}  // namespace
+
+MeanStd cycle_amplitude(const std::vector<double>& t, const std::vector<double>& v, double speed, double t_from) {
+  std::vector<double> amps;
+  for_each_cycle(t, speed, t_from, [&](std::size_t a, std::size_t b) {
+    auto [lo, hi] = std::minmax_element(v.begin() + a, v.begin() + b);
+    amps.push_back(0.5 * (*hi - *lo));
+  });
+  return stats(amps);
+}
+
+MeanStd cycle_mean(const std::vector<double>& t, const std::vector<double>& v, double speed, double t_from) {
+  std::vector<double> means;
+  for_each_cycle(t, speed, t_from, [&](std::size_t a, std::size_t b) {
+    double s = 0;
+    for (std::size_t k = a; k < b; ++k) s += v[k];
+    means.push_back(s / (b - a));
+  });
+  return stats(means);
+}
+
+RunSummary summarize(const RunSignals& s, double speed, double t_from) {
+  RunSummary r;
+  auto scaled = [](MeanStd m, double f) {
+    m.mean *= f;
+    m.std *= f;
+    return m;
+  };
+  r.amplitude_x_mm = scaled(cycle_amplitude(s.t_s, s.x_m, speed, t_from), 1e3);
+  r.amplitude_y_mm = scaled(cycle_amplitude(s.t_s, s.y_m, speed, t_from), 1e3);
+  r.amplitude_z_mm = scaled(cycle_amplitude(s.t_s, s.z_m, speed, t_from), 1e3);
+  r.power_kW = scaled(cycle_mean(s.t_s, s.power_W, speed, t_from), 1e-3);
+  r.speed_rad_s = cycle_mean(s.t_s, s.speed_rad_s, speed, t_from);
+  r.simulated_s = s.t_s.empty() ? 0.0 : s.t_s.back();
+  return r;
+}
+
+std::string to_json(const RunSummary& s) {
+  std::ostringstream o;
+  o << std::setprecision(8);
+  o << "{\n";
+  o << "  \"config\": \"" << escape(s.config) << "\",\n";
+  o << "  \"load\": \"" << escape(s.load) << "\",\n";
+  json_mean_std(o, "amplitude_x_mm", s.amplitude_x_mm);
+  json_mean_std(o, "amplitude_y_mm", s.amplitude_y_mm);
+  json_mean_std(o, "amplitude_z_mm", s.amplitude_z_mm);
+  json_mean_std(o, "power_kW", s.power_kW);
+  json_mean_std(o, "drive_speed_rad_s", s.speed_rad_s);
+  if (s.product) {
+    const auto& p = *s.product;
+    double tph = p.throughput_tph;
+    o << "  \"throughput_tph\": " << tph << ",\n";
+    o << "  \"specific_energy_kWh_per_t\": ";
+    if (tph > 0) o << s.power_kW.mean / tph; else o << "null";
+    o << ",\n  \"mass_discharged_kg\": " << p.mass_discharged_kg << ",\n";
+    o << "  \"psd\": {\"sieve_mm\": ";
+    json_array(o, p.sieve_mm);
+    o << ", \"passing_pct\": ";
+    json_array(o, p.passing_pct);
+    o << "},\n";
+  } else {
+    o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"psd\": null,\n";
+  }
+  o << "  \"simulated_s\": " << s.simulated_s << ",\n";
+  o << "  \"wall_s\": " << s.wall_s << "\n}\n";
+  return o.str();
+}
+
+}  // namespace analysis

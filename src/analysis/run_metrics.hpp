@@ -1,0 +1,46 @@
+#pragma once
+// Plant-engineer metrics of one run (Table 5 of the paper), from sampled signals.
+// Amplitude of a displacement channel: half the peak-to-peak value within each drive cycle;
+// Table 5 reports its mean and standard deviation over cycles, and so do we.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace analysis {
+
+struct MeanStd {
+  double mean = 0, std = 0;
+  int samples = 0;  // cycles (amplitude, power) the statistics were taken over
+};
+
+struct RunSignals {
+  std::vector<double> t_s, x_m, y_m, z_m, power_W, speed_rad_s;
+};
+
+// Per-cycle amplitude statistics of one channel, cycles of period 2 pi / drive_speed, skipping t < t_from.
+MeanStd cycle_amplitude(const std::vector<double>& t, const std::vector<double>& v, double drive_speed_rad_s,
+                        double t_from = 0.0);
+// Per-cycle means of a signal (e.g. power), then mean and std over cycles.
+MeanStd cycle_mean(const std::vector<double>& t, const std::vector<double>& v, double drive_speed_rad_s,
+                   double t_from = 0.0);
+
+struct ProductSummary {  // from the DEM, when particles are attached
+  double throughput_tph = 0;
+  double mass_discharged_kg = 0;
+  std::vector<double> sieve_mm, passing_pct;
+};
+
+struct RunSummary {
+  MeanStd amplitude_x_mm, amplitude_y_mm, amplitude_z_mm, power_kW, speed_rad_s;
+  std::optional<ProductSummary> product;
+  double simulated_s = 0, wall_s = 0;
+  std::string config, load;
+};
+
+// Summary over t >= t_from (settling excluded). Amplitudes in mm, power in kW.
+RunSummary summarize(const RunSignals& s, double drive_speed_rad_s, double t_from);
+
+// summary.json as DESIGN.md specifies; fields that need particles are null without a product.
+std::string to_json(const RunSummary& s);
+
+}  // namespace analysis
