@@ -1,0 +1,84 @@
+#pragma once
+// Particle state of the DEM as structure-of-arrays (DESIGN.md: SoA arrays).
+// Index i is the storage slot (it changes when particles are removed); id[i] is stable and never reused.
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace dem {
+
+struct Particles {
+  // position (m), velocity (m/s), angular velocity (rad/s)
+  std::vector<double> x, y, z, vx, vy, vz, wx, wy, wz;
+  // force (N) and torque (N m) accumulated during the current step
+  std::vector<double> fx, fy, fz, tx, ty, tz;
+  // radius (m), mass (kg), 1/mass, 1/moment of inertia (solid sphere: I = 2/5 m r^2)
+  std::vector<double> r, m, inv_m, inv_I;
+  std::vector<uint64_t> id;   // stable, never reused
+  std::vector<int> material;  // index into MaterialTable
+  uint64_t next_id = 0;
+
+  std::size_t size() const { return x.size(); }
+
+  // Appends a solid sphere of density rho; returns its index. Throws std::invalid_argument on r <= 0 or rho <= 0.
+  std::size_t add(double px, double py, double pz, double radius, double rho, int mat, double pvx = 0,
+                  double pvy = 0, double pvz = 0, double pwx = 0, double pwy = 0, double pwz = 0) {
+    if (!(radius > 0) || !(rho > 0))
+      throw std::invalid_argument("dem::Particles::add: radius and density must be > 0 (got r=" +
+                                  std::to_string(radius) + " m, rho=" + std::to_string(rho) + " kg/m^3)");
+    const double mass = rho * 4.0 / 3.0 * 3.14159265358979323846 * radius * radius * radius;
+    x.push_back(px); y.push_back(py); z.push_back(pz);
+    vx.push_back(pvx); vy.push_back(pvy); vz.push_back(pvz);
+    wx.push_back(pwx); wy.push_back(pwy); wz.push_back(pwz);
+    fx.push_back(0); fy.push_back(0); fz.push_back(0);
+    tx.push_back(0); ty.push_back(0); tz.push_back(0);
+    r.push_back(radius); m.push_back(mass); inv_m.push_back(1.0 / mass);
+    inv_I.push_back(1.0 / (0.4 * mass * radius * radius));
+    id.push_back(next_id++);
+    material.push_back(mat);
+    return x.size() - 1;
+  }
+
+  // Removes every particle with keep[i] == 0, preserving the order of the others.
+  // Returns old index -> new index (-1 for removed). Ids of kept particles are unchanged.
+  std::vector<long> compact(const std::vector<char>& keep) {
+    if (keep.size() != size()) throw std::invalid_argument("dem::Particles::compact: keep has wrong size");
+    std::vector<long> map(size(), -1);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (!keep[i]) continue;
+      map[i] = static_cast<long>(n);
+      if (n != i) copy_slot(i, n);
+      ++n;
+    }
+    resize(n);
+    return map;
+  }
+
+  void clear_forces() {
+    const std::size_t n = size();
+    for (std::size_t i = 0; i < n; ++i) fx[i] = fy[i] = fz[i] = tx[i] = ty[i] = tz[i] = 0.0;
+  }
+
+  void reserve(std::size_t n) {
+    for (auto* v : doubles()) v->reserve(n);
+    id.reserve(n); material.reserve(n);
+  }
+
+ private:
+  std::vector<std::vector<double>*> doubles() {
+    return {&x, &y, &z, &vx, &vy, &vz, &wx, &wy, &wz, &fx, &fy, &fz, &tx, &ty, &tz, &r, &m, &inv_m, &inv_I};
+  }
+  void copy_slot(std::size_t from, std::size_t to) {
+    for (auto* v : doubles()) (*v)[to] = (*v)[from];
+    id[to] = id[from]; material[to] = material[from];
+  }
+  void resize(std::size_t n) {
+    for (auto* v : doubles()) v->resize(n);
+    id.resize(n); material.resize(n);
+  }
+};
+
+}  // namespace dem
