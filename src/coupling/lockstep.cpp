@@ -1,0 +1,55 @@
+#include "coupling/lockstep.hpp"
+
+namespace coupling {
+
+std::uint64_t Leader::request(double now_s) {
+  if (pending_) throw ProtocolError("coupling: step " + std::to_string(*pending_) + " is still unanswered");
+  pending_ = next_++;
+  sent_at_ = last_send_ = now_s;
+  return *pending_;
+}
+
+bool Leader::answer(std::uint64_t step, double now_s) {
+  if (pending_ && step == *pending_) {
+    pending_.reset();
+    ++completed_;
+    return true;
+  }
+  if (step < next_) {  // an old step answered again (the follower answered a resend)
+    ++duplicates_;
+    return false;
+  }
+  throw ProtocolError("coupling: answer for step " + std::to_string(step) + " but only " +
+                      std::to_string(next_) + " steps were requested");
+}
+
+bool Leader::should_resend(double now_s) {
+  if (!pending_ || now_s - last_send_ < o_.resend_s) return false;
+  last_send_ = now_s;
+  return true;
+}
+
+void Leader::check_timeout(double now_s) const {
+  if (!pending_) return;
+  double limit = completed_ == 0 ? o_.first_timeout_s : o_.timeout_s;
+  if (now_s - sent_at_ > limit) {
+    throw ProtocolError("coupling: no answer from the DEM node for step " + std::to_string(*pending_) +
+                        " within " + std::to_string(limit) + " s; is dem_node running on the same master?");
+  }
+}
+
+Follower::Action Follower::on_request(std::uint64_t step) {
+  std::uint64_t expected = last_ ? *last_ + 1 : 0;
+  if (step == expected) {
+    ++advanced_;
+    return Action::Advance;
+  }
+  if (last_ && step == *last_) return Action::Resend;
+  if (last_ && step < *last_) return Action::Ignore;
+  throw ProtocolError("coupling: request for step " + std::to_string(step) + " but step " +
+                      std::to_string(expected) + " was expected (a step was lost; restart both nodes)");
+}
+
+void Follower::answered(std::uint64_t step) { last_ = step; }
+
+}  // namespace coupling

@@ -1,0 +1,80 @@
+#include <gtest/gtest.h>
+
+#include "coupling/lockstep.hpp"
+
+using coupling::Follower;
+using coupling::Leader;
+using coupling::ProtocolError;
+
+TEST(Lockstep, LeaderAndFollowerAdvanceTogether) {
+  Leader l;
+  Follower f;
+  for (int k = 0; k < 100; ++k) {
+    auto s = l.request(k * 0.01);
+    EXPECT_EQ(s, static_cast<std::uint64_t>(k));
+    EXPECT_EQ(f.on_request(s), Follower::Action::Advance);
+    f.answered(s);
+    EXPECT_TRUE(l.answer(s, k * 0.01 + 0.001));
+  }
+  EXPECT_EQ(l.completed(), 100u);
+  EXPECT_EQ(f.advanced(), 100u);
+  EXPECT_EQ(l.duplicates(), 0u);
+}
+
+TEST(Lockstep, LateFollowerGetsResentFirstRequest) {
+  Leader l({30.0, 0.5, 120.0});
+  auto s = l.request(0.0);
+  EXPECT_FALSE(l.should_resend(0.2));
+  EXPECT_TRUE(l.should_resend(0.6));   // follower not up yet: resend
+  EXPECT_FALSE(l.should_resend(0.7));
+  Follower f;  // starts now, sees the resent step 0
+  EXPECT_EQ(f.on_request(s), Follower::Action::Advance);
+  f.answered(s);
+  EXPECT_TRUE(l.answer(s, 0.8));
+}
+
+TEST(Lockstep, RepeatedRequestIsAnsweredFromCacheNotAdvancedTwice) {
+  Follower f;
+  EXPECT_EQ(f.on_request(0), Follower::Action::Advance);
+  f.answered(0);
+  EXPECT_EQ(f.on_request(0), Follower::Action::Resend);
+  EXPECT_EQ(f.on_request(1), Follower::Action::Advance);
+  f.answered(1);
+  EXPECT_EQ(f.on_request(0), Follower::Action::Ignore);
+  EXPECT_EQ(f.advanced(), 2u);
+}
+
+TEST(Lockstep, DuplicateAnswerCountedNotApplied) {
+  Leader l;
+  auto s0 = l.request(0);
+  EXPECT_TRUE(l.answer(s0, 0));
+  l.request(0.1);
+  EXPECT_FALSE(l.answer(s0, 0.1));  // late duplicate of step 0
+  EXPECT_EQ(l.duplicates(), 1u);
+  EXPECT_TRUE(l.pending());
+}
+
+TEST(Lockstep, GapsAndFutureAnswersAreErrors) {
+  Follower f;
+  EXPECT_THROW(f.on_request(3), ProtocolError);
+  Leader l;
+  l.request(0);
+  EXPECT_THROW(l.answer(5, 0), ProtocolError);
+  EXPECT_THROW(l.request(0), ProtocolError);  // step 0 still pending
+}
+
+TEST(Lockstep, SilentPeerTimesOutWithClearError) {
+  Leader l({2.0, 0.5, 10.0});
+  l.request(0);
+  EXPECT_NO_THROW(l.check_timeout(9.0));   // first answer: the longer start-up limit
+  EXPECT_THROW(l.check_timeout(10.5), ProtocolError);
+  EXPECT_TRUE(l.answer(0, 10.4));
+  l.request(11.0);
+  EXPECT_NO_THROW(l.check_timeout(12.5));
+  try {
+    l.check_timeout(13.5);
+    FAIL() << "no timeout";
+  } catch (const ProtocolError& e) {
+    EXPECT_NE(std::string(e.what()).find("step 1"), std::string::npos) << e.what();
+  }
+}
