@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Prints a run's summary.json as a Table-5-style table next to the paper's figures."""
+import json
+import sys
+
+PAPER = {  # Table 5 of Cheng et al. (2020): EXP and SIM, 400 and 600 rpm
+    400: {"amp": (5.46, 5.25), "power": (76.8, 73.8), "tph": (80.8, 84.4), "se": (0.95, 0.87)},
+    600: {"amp": (5.74, 5.57), "power": (146.2, 128.7), "tph": (51.8, 63.7), "se": (2.82, 2.02)},
+}
+
+
+def fmt(v, nd=2):
+    return "n/a" if v is None else f"{v:.{nd}f}"
+
+
+def main(path):
+    s = json.load(open(path))
+    rpm = s.get("drive_speed_rad_s", {}).get("mean", 0) * 60 / (2 * 3.141592653589793)
+    ref = PAPER.get(min(PAPER, key=lambda r: abs(r - rpm))) if rpm > 0 else None
+    psd = s.get("psd")
+    rows = [
+        ("amplitude x, mean (mm)", s["amplitude_x_mm"]["mean"], "amp"),
+        ("amplitude x, std (mm)", s["amplitude_x_mm"]["std"], None),
+        ("amplitude y, mean (mm)", s["amplitude_y_mm"]["mean"], None),
+        ("amplitude z, mean (mm)", s["amplitude_z_mm"]["mean"], None),
+        ("power draw, mean (kW)", s["power_kW"]["mean"], "power"),
+        ("power draw, std (kW)", s["power_kW"]["std"], None),
+        ("throughput (t/h)", s.get("throughput_tph"), "tph"),
+        ("specific energy (kWh/t)", s.get("specific_energy_kWh_per_t"), "se"),
+    ]
+    print(f"\nRun summary ({s.get('config', '')}, load {s.get('load', '')}, drive {rpm:.0f} rpm, "
+          f"{s['simulated_s']:.2f} s simulated in {s['wall_s']:.1f} s)")
+    head = "EXP / paper SIM" + (f" ({min(PAPER, key=lambda r: abs(r - rpm))} rpm)" if ref else "")
+    print(f"{'quantity':<28}{'this run':>12}   {head}")
+    for name, v, key in rows:
+        paper = f"{ref[key][0]} / {ref[key][1]}" if (ref and key) else ""
+        print(f"{name:<28}{fmt(v):>12}   {paper}")
+    if psd:
+        sieves, passing = psd["sieve_mm"], psd["passing_pct"]
+
+        def at(mm):
+            for a, p in zip(sieves, passing):
+                if abs(a - mm) < 1e-9:
+                    return p
+            return None
+
+        p80 = next((a for a, p in zip(sieves, passing) if p >= 80), None)
+        print(f"{'P80 (mm)':<28}{fmt(p80):>12}")
+        print(f"{'passing 12 mm (%)':<28}{fmt(at(12)):>12}   index: > 80")
+        print(f"{'passing 1 mm (%)':<28}{fmt(at(1)):>12}   index: < 3")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: print_summary.py summary.json")
+    main(sys.argv[1])
