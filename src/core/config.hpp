@@ -54,6 +54,8 @@ class ConfigNode {
   // Throws ConfigError naming every key of this mapping (recursively, for children taken with
   // child()) that no read consumed: catches typos such as "damping_cofficient".
   void finish() const;
+  // Marks a key as read by another program (e.g. the `dem:` section in mbd_node) without checking it.
+  void ignore(const std::string& key) const { if (has(key)) mark(key); }
 
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }

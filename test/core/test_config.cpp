@@ -82,3 +82,10 @@ TEST(Config, InvalidYamlAndMissingFile) {
   EXPECT_THROW(ConfigNode::load_file("/nonexistent/x.yaml"), ConfigError);
   EXPECT_THROW(ConfigNode::load_string("- 1\n- 2\n"), ConfigError);
 }
+
+TEST(Config, IgnoredSectionIsNotUnknown) {
+  auto root = ConfigNode::load_string("mbd: {k: 1}\ndem: {anything: 2}\n");
+  root.child("mbd").number("k", 0, 10);
+  root.ignore("dem");
+  EXPECT_NO_THROW(root.finish());
+}
