@@ -89,3 +89,18 @@ TEST(Config, IgnoredSectionIsNotUnknown) {
   root.ignore("dem");
   EXPECT_NO_THROW(root.finish());
 }
+
+#include "core/run_config.hpp"
+
+TEST(RunConfig, ReadsRunSectionAndRejectsBadLoad) {
+  auto root = ConfigNode::load_string("run: {duration_s: 5, load: bed, publish_hz: 1000}\n");
+  auto o = core::load_run_options(root.child("run"));
+  EXPECT_DOUBLE_EQ(o.duration_s, 5);
+  EXPECT_EQ(o.load, "bed");
+  EXPECT_DOUBLE_EQ(o.publish_hz, 1000);
+  EXPECT_NO_THROW(root.finish());
+  auto bad = ConfigNode::load_string("run: {duration_s: 5, load: rocks}\n");
+  auto msg = message_of([&] { core::load_run_options(bad.child("run")); });
+  EXPECT_NE(msg.find("run.load"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("none, bed, dem"), std::string::npos) << msg;
+}

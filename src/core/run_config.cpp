@@ -1,0 +1,26 @@
+#include "core/run_config.hpp"
+
+namespace core {
+
+RunOptions load_run_options(const ConfigNode& run) {
+  RunOptions o;
+  o.duration_s = run.number("duration_s", 1e-3, 3600, "s");
+  o.load = run.choice("load", {"none", "bed", "dem"});
+  o.publish_hz = run.number_or("publish_hz", o.publish_hz, 1, 20000, "Hz");
+  o.tf_hz = run.number_or("tf_hz", o.tf_hz, 1, 1000, "Hz");
+  o.settle_s = run.number_or("settle_s", o.settle_s, 0, 3600, "s");
+  if (o.settle_s >= o.duration_s && o.duration_s > 0.5) {
+    run.fail("settle_s", "must be shorter than run.duration_s (" + std::to_string(o.duration_s) + " s)");
+  }
+  return o;
+}
+
+CouplingOptions load_coupling_options(const ConfigNode& c) {
+  CouplingOptions o;
+  o.dt_s = c.number_or("dt_s", o.dt_s, 1e-5, 0.05, "s");
+  o.timeout_s = c.number_or("timeout_s", o.timeout_s, 0.1, 3600, "s");
+  o.first_timeout_s = c.number_or("first_timeout_s", o.first_timeout_s, 0.1, 7200, "s");
+  return o;
+}
+
+}  // namespace core

@@ -1,0 +1,26 @@
+#pragma once
+// The `run:` and `coupling:` sections of a run configuration, shared by mbd_node and dem_node.
+#include <string>
+
+#include "core/config.hpp"
+
+namespace core {
+
+struct RunOptions {
+  double duration_s = 10.0;   // simulated time after the start
+  std::string load = "bed";   // none | bed | dem
+  double publish_hz = 500;    // test point and drive samples (every one goes to the bag)
+  double tf_hz = 50;          // tf and liner markers
+  double settle_s = 1.0;      // start-up transient excluded from summary.json
+};
+
+struct CouplingOptions {
+  double dt_s = 1e-3;         // coupling interval (the paper's EDEM-RecurDyn exchange: 1000 Hz, Table 4)
+  double timeout_s = 30.0;    // a silent peer stops the run after this wall time
+  double first_timeout_s = 300.0;  // first answer (peer start-up: packing, meshing)
+};
+
+RunOptions load_run_options(const ConfigNode& run);            // the `run:` mapping
+CouplingOptions load_coupling_options(const ConfigNode& coupling);  // the `coupling:` mapping (may be empty)
+
+}  // namespace core
