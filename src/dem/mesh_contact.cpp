@@ -1,0 +1,254 @@
+#include "dem/mesh_contact.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "dem/hertz_mindlin.hpp"
+
+namespace dem {
+namespace {
+
+struct Candidate {
+  int tri;
+  TriFeature feature;
+  int local;          // edge/corner index in the triangle
+  Eigen::Vector3d q;  // closest point, body frame
+  double d;           // distance centre - q
+};
+
+const Candidate* find_tri(const std::vector<Candidate>& c, int tri) {
+  for (const auto& k : c)
+    if (k.tri == tri) return &k;
+  return nullptr;
+}
+
+constexpr double kCos45 = 0.70710678118654752;
+
+}  // namespace
+
+MeshContact::MeshContact(TriMesh mesh, const MaterialTable& materials, int wall_material)
+    : mesh_(std::move(mesh)), materials_(materials), wall_material_(wall_material) {
+  if (wall_material < 0 || wall_material >= materials_.n())
+    throw std::invalid_argument("MeshContact '" + mesh_.name() + "': wall material index " +
+                                std::to_string(wall_material) + "; accepted: 0.." +
+                                std::to_string(materials_.n() - 1));
+  if (mesh_.num_triangles() == 0)
+    throw std::invalid_argument("MeshContact '" + mesh_.name() + "': mesh has no triangles");
+  tri_.resize(mesh_.num_triangles());
+  for (size_t t = 0; t < tri_.size(); ++t) {
+    const auto& tr = mesh_.triangle(static_cast<int>(t));
+    tri_[t] = {mesh_.vertex(tr[0]), mesh_.vertex(tr[1]), mesh_.vertex(tr[2]),
+               mesh_.normal(static_cast<int>(t))};
+  }
+}
+
+void MeshContact::set_regions(RegionMap regions) {
+  if (regions.num_triangles() != mesh_.num_triangles())
+    throw std::invalid_argument("MeshContact '" + mesh_.name() + "': region map covers " +
+                                std::to_string(regions.num_triangles()) + " triangles; accepted: " +
+                                std::to_string(mesh_.num_triangles()) + " (the mesh's count)");
+  regions_ = std::move(regions);
+}
+
+MeshWrench MeshContact::wrench_about(const Eigen::Vector3d& point) const {
+  MeshWrench w;
+  w.force = force_;
+  w.torque = torque_origin_ - point.cross(force_);
+  w.point = point;
+  return w;
+}
+
+void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
+  const long n = static_cast<long>(p.size());
+  // Grid margin must cover the largest particle.
+  double rmax = 0.0;
+#pragma omp parallel for reduction(max : rmax) schedule(static)
+  for (long i = 0; i < n; ++i) rmax = std::max(rmax, p.r[i]);
+  if (n > 0 && (grid_.empty() || rmax > grid_.margin())) grid_ = TriangleGrid(mesh_, 1.05 * rmax);
+
+  const int nthreads = omp_get_max_threads();
+  if (static_cast<int>(per_thread_.size()) < nthreads) per_thread_.resize(nthreads);
+  std::atomic<int> bad_material{-1};
+  const Eigen::Matrix3d R = mesh_.rotation();
+  const Eigen::Matrix3d Rt = R.transpose();
+  const Eigen::Vector3d origin = mesh_.pose().position;
+  const Eigen::Vector3d omega = mesh_.twist().angular;
+  const std::vector<Old>& old = old_;
+
+#pragma omp parallel
+  {
+    const int tid = omp_get_thread_num();
+    std::vector<MeshContactRecord>& out = per_thread_[tid];
+    out.clear();
+    std::vector<Candidate> cand;
+    std::vector<int> kept;
+    std::vector<char> claimed;
+    cand.reserve(32);
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) {
+      const Eigen::Vector3d xw(p.x[i], p.y[i], p.z[i]);
+      const Eigen::Vector3d c = Rt * (xw - origin);
+      auto range = grid_.query(c);
+      if (range.first == range.second) continue;
+      const double r = p.r[i];
+      cand.clear();
+      for (const int* it = range.first; it != range.second; ++it) {
+        const TriData& T = tri_[*it];
+        const double h = T.n.dot(c - T.a);
+        if (h >= r || h <= -r) continue;
+        const ClosestPoint cp = closest_point_on_triangle(c, T.a, T.b, T.c);
+        const double d2 = (c - cp.point).squaredNorm();
+        if (d2 >= r * r) continue;
+        cand.push_back({*it, cp.feature, cp.index, cp.point, std::sqrt(d2)});
+      }
+      if (cand.empty()) continue;
+      // Keep a feature contact only if it is the closest point of every triangle sharing it.
+      const double tol = 1e-9 * r;
+      kept.clear();
+      for (int k = 0; k < static_cast<int>(cand.size()); ++k) {
+        const Candidate& ck = cand[k];
+        bool valid = true;
+        if (ck.feature == TriFeature::Edge) {
+          const TriMesh::Edge& e = mesh_.edges()[mesh_.triangle_edges(ck.tri)[ck.local]];
+          const int other = e.tri0 == ck.tri ? e.tri1 : e.tri0;
+          if (other >= 0) {
+            const Candidate* co = find_tri(cand, other);
+            if (co && co->d < ck.d - tol) valid = false;
+          }
+        } else if (ck.feature == TriFeature::Vertex) {
+          const int v = mesh_.triangle(ck.tri)[ck.local];
+          auto [b, e] = mesh_.vertex_triangles(v);
+          for (const int* t2 = b; t2 != e && valid; ++t2) {
+            if (*t2 == ck.tri) continue;
+            const Candidate* co = find_tri(cand, *t2);
+            if (co && co->d < ck.d - tol) valid = false;
+          }
+        }
+        if (!valid) continue;
+        for (int j : kept)
+          if ((cand[j].q - ck.q).squaredNorm() <= tol * tol) {
+            valid = false;
+            break;
+          }
+        if (valid) kept.push_back(k);
+      }
+      // Pair properties of this particle's material with the wall.
+      const int mat = p.material[i];
+      if (!materials_.has_pair(mat, wall_material_)) {
+        bad_material.store(mat);
+        continue;
+      }
+      const PairProps& props = materials_.pair(mat, wall_material_);
+      // Previous contacts of this particle.
+      const uint64_t pid = p.id[i];
+      auto lo = std::lower_bound(old.begin(), old.end(), pid,
+                                 [](const Old& o, uint64_t id) { return o.id < id; });
+      auto hi = lo;
+      while (hi != old.end() && hi->id == pid) ++hi;
+      claimed.assign(hi - lo, 0);
+      const size_t first_new = out.size();
+      for (int k : kept) {
+        const Candidate& ck = cand[k];
+        MeshContactRecord rec;
+        rec.particle_id = pid;
+        rec.particle_index = static_cast<int>(i);
+        rec.triangle = ck.tri;
+        rec.feature = ck.feature;
+        rec.region = regions_ ? regions_->region_of(ck.tri) : -1;
+        rec.overlap = r - ck.d;
+        const Eigen::Vector3d nb = ck.d > 1e-12 * r ? Eigen::Vector3d((c - ck.q) / ck.d) : tri_[ck.tri].n;
+        rec.normal = R * nb;
+        rec.point = R * ck.q + origin;
+        rec.history.setZero();
+        for (auto o = lo; o != hi; ++o)
+          if (o->tri == ck.tri) {
+            rec.history = o->history;
+            claimed[o - lo] = 1;
+          }
+        out.push_back(rec);
+      }
+      // Unmatched new contacts take the history of a released contact with a similar normal.
+      for (size_t m = first_new; m < out.size(); ++m) {
+        MeshContactRecord& rec = out[m];
+        bool exact = false;
+        for (auto o = lo; o != hi; ++o) exact |= (o->tri == rec.triangle);
+        if (exact) continue;
+        int best = -1;
+        double best_dot = kCos45;
+        for (auto o = lo; o != hi; ++o) {
+          if (claimed[o - lo]) continue;
+          const double dd = o->normal.dot(rec.normal);
+          if (dd > best_dot) {
+            best_dot = dd;
+            best = static_cast<int>(o - lo);
+          }
+        }
+        if (best >= 0) {
+          rec.history = (lo + best)->history;
+          claimed[best] = 1;
+        }
+      }
+      // Forces (paper Eq. 16-19 via hertz_mindlin, wall of infinite mass and radius).
+      const Eigen::Vector3d vi(p.vx[i], p.vy[i], p.vz[i]);
+      const Eigen::Vector3d wi(p.wx[i], p.wy[i], p.wz[i]);
+      for (size_t m = first_new; m < out.size(); ++m) {
+        MeshContactRecord& rec = out[m];
+        const double dcen = r - rec.overlap;  // centre to contact point
+        const Eigen::Vector3d arm = -dcen * rec.normal;
+        const Eigen::Vector3d vrel = vi + wi.cross(arm) - mesh_.velocity_at(rec.point);
+        const Eigen::Vector3d wrel = wi - omega;
+        ContactForce cf;
+        hertz_mindlin(rec.overlap, rec.normal.data(), vrel.data(), wrel.data(), r, p.m[i], props, dt,
+                      rec.history.data(), cf);
+        rec.force = Eigen::Vector3d(cf.f[0], cf.f[1], cf.f[2]);
+        rec.roll_torque = Eigen::Vector3d(cf.troll[0], cf.troll[1], cf.troll[2]);
+        rec.normal_force = cf.fn_mag;
+        const Eigen::Vector3d tq = arm.cross(rec.force) + rec.roll_torque;
+        p.fx[i] += rec.force.x();
+        p.fy[i] += rec.force.y();
+        p.fz[i] += rec.force.z();
+        p.tx[i] += tq.x();
+        p.ty[i] += tq.y();
+        p.tz[i] += tq.z();
+      }
+    }
+  }
+  if (bad_material.load() >= 0)
+    throw std::invalid_argument("MeshContact '" + mesh_.name() + "': no contact pair between particle material " +
+                                std::to_string(bad_material.load()) + " and wall material " +
+                                std::to_string(wall_material_) + "; set it with MaterialTable::set_pair");
+
+  // Serial, ordered reduction (thread blocks are contiguous in particle order).
+  contacts_.clear();
+  for (int t = 0; t < nthreads; ++t)
+    contacts_.insert(contacts_.end(), per_thread_[t].begin(), per_thread_[t].end());
+  force_.setZero();
+  torque_origin_.setZero();
+  total_normal_ = 0.0;
+  const int nreg = regions_ ? regions_->num_regions() : 0;
+  region_normal_.assign(nreg, 0.0);
+  region_force_.assign(nreg, Eigen::Vector3d::Zero());
+  for (const auto& rec : contacts_) {
+    force_ -= rec.force;
+    torque_origin_ -= rec.point.cross(rec.force) + rec.roll_torque;
+    total_normal_ += rec.normal_force;
+    if (rec.region >= 0) {
+      region_normal_[rec.region] += rec.normal_force;
+      region_force_[rec.region] -= rec.force;
+    }
+  }
+  // History for the next step, sorted by (particle id, triangle).
+  old_.clear();
+  old_.reserve(contacts_.size());
+  for (const auto& rec : contacts_) old_.push_back({rec.particle_id, rec.triangle, rec.normal, rec.history});
+  std::sort(old_.begin(), old_.end(), [](const Old& a, const Old& b) {
+    return a.id != b.id ? a.id < b.id : a.tri < b.tri;
+  });
+}
+
+}  // namespace dem

@@ -1,0 +1,114 @@
+#pragma once
+// Particle-mesh contact (a moving rigid liner), a dem::Interaction called by World every step.
+//
+// Narrow phase: closest point of each candidate triangle to the particle centre (face, edge or
+// vertex). A contact on an edge or vertex is kept only when it is the closest point for EVERY
+// triangle sharing that feature (the centre lies in the feature's Voronoi region); contacts whose
+// points coincide (within 1e-9 r) are merged. So a sphere on a flat tessellated plane gets exactly
+// one contact anywhere (inside a face, on a shared edge, at a shared vertex), a sphere on a convex
+// edge gets one edge contact, and a sphere in a concave corner gets one contact per face it touches.
+// The law is demcore's hertz_mindlin() (paper Eq. 16-19 + CDT rolling friction) with the
+// particle-wall material pair, the wall of infinite mass and radius (r* = r_i, M* = m_i).
+// Meshes are two-sided: the normal points from the closest surface point to the particle centre.
+//
+// Tangential history is kept per (particle id, triangle). A new contact on a triangle takes over the
+// history of the same particle's previous contact on another triangle that is no longer touched and
+// whose normal is within 45 degrees (the contact slid onto a neighbour); the spring is then rotated
+// into the new tangent plane by hertz_mindlin().
+//
+// Broad phase: a uniform grid over the triangles in the body frame (mesh_grid.hpp), rebuilt only
+// when a particle larger than its margin appears. OpenMP over particles with a static schedule;
+// per-contact records are concatenated in particle order and reduced serially, so results are
+// bit-identical for any thread count.
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "dem/interaction.hpp"
+#include "dem/materials.hpp"
+#include "dem/mesh.hpp"
+#include "dem/mesh_geometry.hpp"
+#include "dem/mesh_grid.hpp"
+#include "dem/region_map.hpp"
+
+namespace dem {
+
+// One particle-triangle contact of the last step (world frame).
+struct MeshContactRecord {
+  uint64_t particle_id;
+  int particle_index;
+  int triangle;
+  TriFeature feature;
+  int region;                  // region of the triangle, -1 without a region map
+  double overlap = 0;              // m
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();       // contact point on the mesh, world
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();      // unit, from the mesh towards the particle centre
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();       // on the particle (the mesh gets -force), N
+  Eigen::Vector3d roll_torque = Eigen::Vector3d::Zero(); // rolling torque on the particle (the mesh gets the opposite), N m
+  double normal_force = 0;         // signed normal force along `normal` (Eq. 16), N
+  Eigen::Vector3d history = Eigen::Vector3d::Zero();     // tangential spring (m)
+};
+
+struct MeshWrench {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   // on the mesh, N, world frame
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();  // on the mesh about `point`, N m, world frame
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+};
+
+class MeshContact : public Interaction {
+ public:
+  // wall_material: index of the mesh's material in `materials`; every particle material used must
+  // have a pair with it (checked on first use, std::invalid_argument otherwise).
+  MeshContact(TriMesh mesh, const MaterialTable& materials, int wall_material);
+
+  TriMesh& mesh() { return mesh_; }  // set_pose()/set_twist() on it every step
+  const TriMesh& mesh() const { return mesh_; }
+  void set_pose(const Pose& p) { mesh_.set_pose(p); }
+  void set_twist(const Twist& t) { mesh_.set_twist(t); }
+  // Optional region map (must match the mesh's triangle count).
+  void set_regions(RegionMap regions);
+  const RegionMap* regions() const { return regions_ ? &*regions_ : nullptr; }
+
+  void add_forces(Particles& p, double t, double dt) override;
+
+  // Results of the last add_forces().
+  const std::vector<MeshContactRecord>& contacts() const { return contacts_; }
+  // Force and torque on the mesh about `point` (world), equal and opposite to the particles' reactions.
+  MeshWrench wrench_about(const Eigen::Vector3d& point) const;
+  // Sum over contacts of the normal force magnitude on the mesh (N).
+  double total_normal_force() const { return total_normal_; }
+  // Per region: summed normal force (N) and summed force vector on the mesh (N); empty without a map.
+  const std::vector<double>& region_normal_force() const { return region_normal_; }
+  const std::vector<Eigen::Vector3d>& region_force() const { return region_force_; }
+  const TriangleGrid& grid() const { return grid_; }
+
+ private:
+  struct TriData {  // body-frame geometry for the narrow phase
+    Eigen::Vector3d a, b, c, n;
+  };
+  struct Old {  // previous step's contact, sorted by (particle id, triangle)
+    uint64_t id;
+    int tri;
+    Eigen::Vector3d normal, history;
+  };
+
+  TriMesh mesh_;
+  MaterialTable materials_;
+  int wall_material_;
+  std::vector<TriData> tri_;
+  TriangleGrid grid_;
+  std::optional<RegionMap> regions_;
+
+  std::vector<Old> old_;
+  std::vector<MeshContactRecord> contacts_;
+  std::vector<std::vector<MeshContactRecord>> per_thread_;
+  Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque_origin_ = Eigen::Vector3d::Zero();  // about the world origin
+  double total_normal_ = 0.0;
+  std::vector<double> region_normal_;
+  std::vector<Eigen::Vector3d> region_force_;
+};
+
+}  // namespace dem
