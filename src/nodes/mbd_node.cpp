@@ -1,0 +1,300 @@
+// mbd_node: the crusher mechanism (src/mbd) as a ROS node. Parameters in, topics and a bag out.
+//   ~config (path, required), ~out (dir for run.bag and summary.json), ~load (none|bed|dem), ~duration (s),
+//   ~max_rtf (at most this many times real time, e.g. 1 to watch in rviz; 0 = as fast as possible)
+// Sim time: this node is the clock (/clock). In `dem` load mode it leads the lockstep coupling.
+#include <inertia_crusher/DriveState.h>
+#include <inertia_crusher/GeometryState.h>
+#include <inertia_crusher/GeometryWrench.h>
+#include <inertia_crusher/TestPoint.h>
+#include <rosgraph_msgs/Clock.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sys/stat.h>
+
+#include "analysis/run_metrics.hpp"
+#include "core/run_config.hpp"
+#include "coupling/lockstep.hpp"
+#include "mbd/mechanism.hpp"
+#include "mbd/mechanism_params.hpp"
+#include "nodes/ros_common.hpp"
+
+namespace {
+
+using mbd::BodyId;
+using nodes::to_msg;
+
+const BodyId kBodies[] = {BodyId::FixedCone, BodyId::FloatingCone, BodyId::Vibrator,
+                          BodyId::GlobeBearing, BodyId::ConnectingShaft, BodyId::DriveShaft};
+
+struct Config {
+  core::RunOptions run;
+  core::CouplingOptions coupling;
+  mbd::MechanismParams mech;
+};
+
+Config load_config(const std::string& path, const std::string& load_override, double duration_override) {
+  auto root = core::ConfigNode::load_file(path);
+  Config c;
+  c.run = core::load_run_options(root.child("run"));
+  c.coupling = core::load_coupling_options(root.child_or_empty("coupling"));
+  c.mech = mbd::load_mechanism_params(root.child("mbd"));
+  root.ignore("dem");  // read by dem_node
+  root.finish();
+  if (!load_override.empty()) {
+    if (load_override != "none" && load_override != "bed" && load_override != "dem")
+      throw core::ConfigError("parameter ~load: '" + load_override + "' is not accepted; accepted: none, bed, dem");
+    c.run.load = load_override;
+  }
+  if (duration_override > 0) c.run.duration_s = duration_override;
+  mbd::validate(c.mech);
+  return c;
+}
+
+double wall_now() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+class MbdNode {
+ public:
+  MbdNode(ros::NodeHandle& nh, Config cfg, std::string out_dir, std::string config_path, double max_rtf)
+      : cfg_(std::move(cfg)), out_(std::move(out_dir)), config_path_(std::move(config_path)), max_rtf_(max_rtf),
+        leader_({cfg_.coupling.timeout_s, 0.5, cfg_.coupling.first_timeout_s}) {
+    // In `dem` mode the particles are the load; `bed` is the equivalent material-bed model; `none` idles.
+    mech_ = std::make_unique<mbd::Mechanism>(cfg_.mech, cfg_.run.load == "bed" ? mbd::LoadModel::Bed
+                                                                                : mbd::LoadModel::None);
+    pub_clock_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    pub_tp_ = nh.advertise<inertia_crusher::TestPoint>("/crusher/test_point", 1000);
+    pub_drive_ = nh.advertise<inertia_crusher::DriveState>("/crusher/drive", 1000);
+    pub_tf_ = nh.advertise<tf2_msgs::TFMessage>("/tf", 100);
+    pub_geom_ = nh.advertise<inertia_crusher::GeometryState>("/crusher/geometry_state", 10);
+    if (cfg_.run.load == "dem") {
+      sub_wrench_ = nh.subscribe("/crusher/geometry_wrench", 10, &MbdNode::on_wrench, this,
+                                 ros::TransportHints().tcpNoDelay());
+    }
+    if (!out_.empty()) bag_.open(out_ + "/run.bag");
+  }
+
+  // Runs to the end (or until stopped); returns the exit status.
+  int run() {
+    const double t0 = wall_now();
+    wall_start_ = t0;
+    int status = 0;
+    try {
+      loop();
+    } catch (const std::exception& e) {
+      ROS_ERROR("mbd_node: %s (t = %.4f s); the bag and the partial summary are kept", e.what(), mech_->time());
+      status = 1;
+    }
+    wall_s_ = wall_now() - t0;
+    finish();
+    return status;
+  }
+
+ private:
+  void loop() {
+    const double dt = cfg_.mech.dt_s;
+    const double t_end = cfg_.run.duration_s;
+    const double pub_dt = 1.0 / cfg_.run.publish_hz, tf_dt = 1.0 / cfg_.run.tf_hz;
+    const bool coupled = cfg_.run.load == "dem";
+    const long steps_per_coupling = coupled ? std::max(1L, std::lround(cfg_.coupling.dt_s / dt)) : 1;
+    double next_pub = 0, next_tf = 0, next_progress = 0;
+    publish_samples(true);
+    next_pub += pub_dt;
+    next_tf += tf_dt;
+    while (mech_->time() < t_end - 0.5 * dt) {
+      if (nodes::stop_requested() || !ros::ok()) {
+        ROS_WARN("mbd_node: stopped at t = %.4f s; closing the bag", mech_->time());
+        break;
+      }
+      if (coupled) exchange(steps_per_coupling * dt);
+      for (long i = 0; i < steps_per_coupling; ++i) {
+        mech_->step();
+        check_finite();
+        const double t = mech_->time();
+        if (t >= next_pub - 1e-9) {
+          bool with_tf = t >= next_tf - 1e-9;
+          publish_samples(with_tf);
+          next_pub += pub_dt;
+          if (with_tf) next_tf += tf_dt;
+          if (max_rtf_ > 0) {
+            double ahead = t / max_rtf_ - (wall_now() - wall_start_);
+            if (ahead > 0) ros::WallDuration(ahead).sleep();
+          }
+        }
+      }
+      if (mech_->time() >= next_progress) {
+        ROS_INFO_THROTTLE(5.0, "mbd_node: t = %.2f / %.2f s", mech_->time(), t_end);
+        next_progress += 1.0;
+      }
+    }
+  }
+
+  // Lockstep: send liner poses for this step, wait for the DEM's time-averaged wrench, apply it.
+  void exchange(double coupling_dt) {
+    std::uint64_t step = leader_.request(wall_now());
+    send_geometry(step, coupling_dt);
+    while (leader_.pending()) {
+      ros::spinOnce();
+      if (!leader_.pending()) break;
+      const double now = wall_now();
+      if (nodes::stop_requested() || !ros::ok()) throw std::runtime_error("stopped while waiting for dem_node");
+      leader_.check_timeout(now);
+      if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
+      ros::WallDuration(2e-5).sleep();
+    }
+    mech_->set_particle_wrench(BodyId::FloatingCone, wrench_.mantle_force, wrench_.mantle_torque);
+    mech_->set_particle_wrench(BodyId::FixedCone, wrench_.concave_force, wrench_.concave_torque);
+  }
+
+  void send_geometry(std::uint64_t step, double coupling_dt) {
+    inertia_crusher::GeometryState g;
+    g.header.stamp = ros::Time(mech_->time());
+    g.header.frame_id = "world";
+    g.step = step;
+    g.time = mech_->time();
+    g.dt = coupling_dt;
+    auto m = mech_->body(BodyId::FloatingCone), c = mech_->body(BodyId::FixedCone);
+    g.mantle_pose = nodes::to_pose(m.position, m.orientation);
+    g.mantle_twist = nodes::to_twist(m.linear_velocity, m.angular_velocity);
+    g.concave_pose = nodes::to_pose(c.position, c.orientation);
+    g.concave_twist = nodes::to_twist(c.linear_velocity, c.angular_velocity);
+    pub_geom_.publish(g);
+    if (step != last_recorded_step_) {  // the bag holds each step once, resends are not new samples
+      bag_.write("/crusher/geometry_state", g.header.stamp, g);
+      last_recorded_step_ = step;
+    }
+  }
+
+  void on_wrench(const inertia_crusher::GeometryWrench::ConstPtr& w) {
+    if (!leader_.answer(w->step, wall_now())) return;  // a duplicate of an answered step
+    wrench_.mantle_force = nodes::from_msg(w->mantle.force);
+    wrench_.mantle_torque = nodes::from_msg(w->mantle.torque);
+    wrench_.concave_force = nodes::from_msg(w->concave.force);
+    wrench_.concave_torque = nodes::from_msg(w->concave.torque);
+    bag_.write("/crusher/geometry_wrench", ros::Time(mech_->time()), *w);
+  }
+
+  void check_finite() {
+    for (auto id : kBodies) {
+      auto b = mech_->body(id);
+      if (!b.position.allFinite() || !b.linear_velocity.allFinite()) {
+        throw std::runtime_error(std::string("numerical blow-up: body ") + mbd::body_name(id) + " has a non-finite state at step " +
+                                 std::to_string(std::lround(mech_->time() / cfg_.mech.dt_s)));
+      }
+    }
+  }
+
+  void publish_samples(bool with_tf) {
+    const ros::Time stamp(mech_->time());
+    rosgraph_msgs::Clock clk;
+    clk.clock = stamp;
+    pub_clock_.publish(clk);
+
+    auto tp = mech_->test_point();
+    inertia_crusher::TestPoint m;
+    m.header.stamp = stamp;
+    m.header.frame_id = "world";
+    m.displacement = to_msg(tp.displacement);
+    m.velocity = to_msg(tp.velocity);
+    m.acceleration = to_msg(tp.acceleration);
+    pub_tp_.publish(m);
+    bag_.write("/crusher/test_point", stamp, m);
+
+    auto d = mech_->drive();
+    inertia_crusher::DriveState ds;
+    ds.header = m.header;
+    ds.speed = d.speed;
+    ds.torque = d.torque;
+    ds.power = d.power;
+    ds.nutation_angle = mech_->nutation_angle();
+    ds.mantle_spin = mech_->mantle_spin();
+    pub_drive_.publish(ds);
+    bag_.write("/crusher/drive", stamp, ds);
+
+    sig_.t_s.push_back(mech_->time());
+    sig_.x_m.push_back(tp.displacement.x());
+    sig_.y_m.push_back(tp.displacement.y());
+    sig_.z_m.push_back(tp.displacement.z());
+    sig_.power_W.push_back(d.power);
+    sig_.speed_rad_s.push_back(d.speed);
+
+    if (with_tf) {
+      tf2_msgs::TFMessage tf;
+      for (auto id : kBodies) {
+        auto b = mech_->body(id);
+        geometry_msgs::TransformStamped ts;
+        ts.header.stamp = stamp;
+        ts.header.frame_id = "world";
+        ts.child_frame_id = mbd::body_name(id);
+        ts.transform.translation = to_msg(b.position);
+        ts.transform.rotation = nodes::to_pose(b.position, b.orientation).orientation;
+        tf.transforms.push_back(ts);
+      }
+      pub_tf_.publish(tf);
+      bag_.write("/tf", stamp, tf);
+    }
+  }
+
+  void finish() {
+    bag_.close();
+    if (out_.empty()) return;
+    auto s = analysis::summarize(sig_, cfg_.mech.drive_speed_rad_s, cfg_.run.settle_s);
+    s.wall_s = wall_s_;
+    s.config = config_path_;
+    s.load = cfg_.run.load;
+    if (product_) s.product = product_;
+    std::ofstream(out_ + "/summary.json") << analysis::to_json(s);
+    ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.1fx real time); amplitude x %.3f mm, power %.2f kW",
+             s.simulated_s, wall_s_, s.simulated_s / std::max(wall_s_, 1e-9), s.amplitude_x_mm.mean,
+             s.power_kW.mean);
+  }
+
+  Config cfg_;
+  std::string out_, config_path_;
+  double max_rtf_ = 0, wall_start_ = 0;
+  std::unique_ptr<mbd::Mechanism> mech_;
+  coupling::Leader leader_;
+  ros::Publisher pub_clock_, pub_tp_, pub_drive_, pub_tf_, pub_geom_;
+  ros::Subscriber sub_wrench_;
+  nodes::BagRecorder bag_;
+  analysis::RunSignals sig_;
+  std::optional<analysis::ProductSummary> product_;
+  std::uint64_t last_recorded_step_ = ~0ull;
+  double wall_s_ = 0;
+  struct {
+    Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();
+    Eigen::Vector3d concave_force = Eigen::Vector3d::Zero(), concave_torque = Eigen::Vector3d::Zero();
+  } wrench_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "mbd_node", ros::init_options::NoSigintHandler);
+  nodes::install_stop_handler();
+  ros::NodeHandle nh, pnh("~");
+  const std::string config_path = nodes::param_or(pnh, "config", std::string());
+  const std::string out = nodes::param_or(pnh, "out", std::string());
+  if (config_path.empty()) {
+    std::fprintf(stderr, "mbd_node: parameter ~config is missing; usage: rosrun inertia_crusher mbd_node "
+                         "_config:=launch_free_configs/gyp1200_400rpm.yaml [_out:=DIR] [_load:=none|bed|dem]\n");
+    return 2;
+  }
+  Config cfg;
+  try {
+    cfg = load_config(config_path, nodes::param_or(pnh, "load", std::string()), nodes::param_or(pnh, "duration", -1.0));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mbd_node: %s\n", e.what());
+    return 2;
+  }
+  if (!out.empty()) ::mkdir(out.c_str(), 0755);
+  MbdNode node(nh, std::move(cfg), out, config_path, nodes::param_or(pnh, "max_rtf", 0.0));
+  return node.run();
+}

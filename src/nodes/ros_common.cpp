@@ -1,0 +1,78 @@
+#include "nodes/ros_common.hpp"
+
+#include <csignal>
+
+namespace nodes {
+
+geometry_msgs::Vector3 to_msg(const Eigen::Vector3d& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+Eigen::Vector3d from_msg(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+
+geometry_msgs::Pose to_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  geometry_msgs::Pose m;
+  m.position.x = p.x();
+  m.position.y = p.y();
+  m.position.z = p.z();
+  m.orientation.w = q.w();
+  m.orientation.x = q.x();
+  m.orientation.y = q.y();
+  m.orientation.z = q.z();
+  return m;
+}
+
+void from_pose(const geometry_msgs::Pose& m, Eigen::Vector3d* p, Eigen::Quaterniond* q) {
+  *p = {m.position.x, m.position.y, m.position.z};
+  *q = Eigen::Quaterniond(m.orientation.w, m.orientation.x, m.orientation.y, m.orientation.z);
+}
+
+geometry_msgs::Twist to_twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  geometry_msgs::Twist t;
+  t.linear = to_msg(v);
+  t.angular = to_msg(w);
+  return t;
+}
+
+void BagRecorder::open(const std::string& path) {
+  bag_.open(path, rosbag::bagmode::Write);
+  open_ = true;
+}
+
+void BagRecorder::close() {
+  if (open_) {
+    bag_.close();
+    open_ = false;
+  }
+}
+
+namespace {
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+}  // namespace
+
+void install_stop_handler() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+
+bool stop_requested() { return g_stop != 0; }
+
+std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback) {
+  std::string v;
+  return pnh.getParam(name, v) ? v : fallback;
+}
+
+double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback) {
+  double v;
+  if (pnh.getParam(name, v)) return v;
+  int i;
+  if (pnh.getParam(name, i)) return i;
+  return fallback;
+}
+
+}  // namespace nodes

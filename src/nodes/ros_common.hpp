@@ -1,0 +1,54 @@
+#pragma once
+// Small ROS adapters shared by mbd_node and dem_node: message conversions, a lossless bag recorder
+// that is closed on every exit path, and a stop flag for SIGINT/SIGTERM.
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Twist.h>
+#include <geometry_msgs/Vector3.h>
+#include <geometry_msgs/Wrench.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <map>
+#include <string>
+
+namespace nodes {
+
+geometry_msgs::Vector3 to_msg(const Eigen::Vector3d& v);
+Eigen::Vector3d from_msg(const geometry_msgs::Vector3& v);
+geometry_msgs::Pose to_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
+void from_pose(const geometry_msgs::Pose& m, Eigen::Vector3d* p, Eigen::Quaterniond* q);
+geometry_msgs::Twist to_twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+
+// Writes every message it is given (the node's own record: nothing is dropped as `rosbag record` may).
+class BagRecorder {
+ public:
+  BagRecorder() = default;
+  ~BagRecorder() { close(); }
+  void open(const std::string& path);
+  template <class M>
+  void write(const std::string& topic, const ros::Time& t, const M& m) {
+    if (!open_) return;
+    bag_.write(topic, t, m);
+    ++count_[topic];
+  }
+  void close();
+  bool is_open() const { return open_; }
+  const std::map<std::string, long>& counts() const { return count_; }
+
+ private:
+  rosbag::Bag bag_;
+  bool open_ = false;
+  std::map<std::string, long> count_;
+};
+
+// SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept.
+void install_stop_handler();
+bool stop_requested();
+
+// Reads a private parameter as string ("" when unset).
+std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback);
+double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback);
+
+}  // namespace nodes
