@@ -18,6 +18,8 @@ struct Particles {
   std::vector<double> r, m, inv_m, inv_I;
   std::vector<uint64_t> id;   // stable, never reused
   std::vector<int> material;  // index into MaterialTable
+  // 1: prescribed motion: the integrator moves the particle with its current v, w and ignores its forces
+  std::vector<char> fixed;
   uint64_t next_id = 0;
 
   std::size_t size() const { return x.size(); }
@@ -38,6 +40,7 @@ struct Particles {
     inv_I.push_back(1.0 / (0.4 * mass * radius * radius));
     id.push_back(next_id++);
     material.push_back(mat);
+    fixed.push_back(0);
     return x.size() - 1;
   }
 
@@ -64,7 +67,7 @@ struct Particles {
 
   void reserve(std::size_t n) {
     for (auto* v : doubles()) v->reserve(n);
-    id.reserve(n); material.reserve(n);
+    id.reserve(n); material.reserve(n); fixed.reserve(n);
   }
 
  private:
@@ -73,11 +76,11 @@ struct Particles {
   }
   void copy_slot(std::size_t from, std::size_t to) {
     for (auto* v : doubles()) (*v)[to] = (*v)[from];
-    id[to] = id[from]; material[to] = material[from];
+    id[to] = id[from]; material[to] = material[from]; fixed[to] = fixed[from];
   }
   void resize(std::size_t n) {
     for (auto* v : doubles()) v->resize(n);
-    id.resize(n); material.resize(n);
+    id.resize(n); material.resize(n); fixed.resize(n);
   }
 };
 
