@@ -1,0 +1,689 @@
+#include "dem/world.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "dem/bond_law.hpp"
+#include "dem/hertz_mindlin.hpp"
+
+namespace dem {
+
+World::World(const WorldParams& params) : prm_(params) {
+  if (!(prm_.dt > 0)) throw std::invalid_argument("dem::World: dt must be > 0 s, got " + std::to_string(prm_.dt));
+  if (prm_.threads < 0) throw std::invalid_argument("dem::World: threads must be >= 0 (0 = all)");
+  if (!(prm_.max_rayleigh_fraction > 0) || prm_.max_rayleigh_fraction > 1)
+    throw std::invalid_argument("dem::World: max_rayleigh_fraction must be in (0, 1]");
+  if (prm_.materials.n() == 0) throw std::invalid_argument("dem::World: the material table is empty");
+  for (int i = 0; i < prm_.materials.n(); ++i)
+    for (int j = 0; j < prm_.materials.n(); ++j)
+      if (!prm_.materials.has_pair(i, j))
+        throw std::invalid_argument("dem::World: no pair properties for materials '" +
+                                    prm_.materials.material(i).name + "' and '" + prm_.materials.material(j).name +
+                                    "' (MaterialTable::set_pair)");
+  nt_ = prm_.threads > 0 ? prm_.threads : omp_get_max_threads();
+  skin_ = prm_.skin;
+}
+
+// ------------------------------------------------------------------ particles
+std::size_t World::add_particle(const double x[3], double radius, int material, const double v[3],
+                                const double w[3]) {
+  return add_particle(x, radius, material, prm_.materials.material(material).density, v, w);
+}
+
+std::size_t World::add_particle(const double x[3], double radius, int material, double density, const double v[3],
+                                const double w[3]) {
+  if (material < 0 || material >= prm_.materials.n())
+    throw std::invalid_argument("dem::World::add_particle: material index " + std::to_string(material) +
+                                " not in [0, " + std::to_string(prm_.materials.n()) + ")");
+  if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+    throw std::invalid_argument("dem::World::add_particle: position must be finite");
+  const double z3[3] = {0, 0, 0};
+  if (!v) v = z3;
+  if (!w) w = z3;
+  const std::size_t i = p_.add(x[0], x[1], x[2], radius, density, material, v[0], v[1], v[2], w[0], w[1], w[2]);
+  need_rebuild_ = true;
+  dt_checked_ = false;
+  return i;
+}
+
+long World::index_of(uint64_t id) const {
+  // ids are increasing with index: insertion appends a new id, removal keeps the order
+  auto it = std::lower_bound(p_.id.begin(), p_.id.end(), id);
+  if (it == p_.id.end() || *it != id) return -1;
+  return static_cast<long>(it - p_.id.begin());
+}
+
+void World::remove_particles(const std::vector<char>& remove) {
+  if (remove.size() != p_.size())
+    throw std::invalid_argument("dem::World::remove_particles: mask size " + std::to_string(remove.size()) +
+                                " != particle count " + std::to_string(p_.size()));
+  resize_per_particle();
+  std::vector<char> keep(remove.size());
+  for (std::size_t i = 0; i < remove.size(); ++i) keep[i] = remove[i] ? 0 : 1;
+  const std::size_t nw = walls_.size(), nold = p_.size();
+  // wall histories follow their particles
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < nold; ++i) {
+    if (!keep[i]) continue;
+    for (std::size_t w = 0; w < nw; ++w) whist_[k * nw + w] = whist_[i * nw + w];
+    ++k;
+  }
+  const std::vector<long> map = p_.compact(keep);
+  whist_.resize(p_.size() * nw);
+  // bonds: drop those touching removed particles, renumber the rest
+  std::size_t nb = 0;
+  for (std::size_t b = 0; b < bonds_.size(); ++b) {
+    Bond bd = bonds_[b];
+    if (!bd.alive || map[bd.i] < 0 || map[bd.j] < 0) continue;
+    bd.i = static_cast<uint32_t>(map[bd.i]);
+    bd.j = static_cast<uint32_t>(map[bd.j]);
+    bonds_[nb++] = bd;
+  }
+  bonds_.resize(nb);
+  bonds_dirty_ = true;
+  // neighbour pairs: keep histories of surviving pairs (order by owner is preserved by the compaction)
+  std::size_t np = 0;
+  for (std::size_t q = 0; q < npairs_; ++q) {
+    const long a = map[pi_[q]], b = map[pj_[q]];
+    if (a < 0 || b < 0) continue;
+    pi_[np] = static_cast<uint32_t>(a);
+    pj_[np] = static_cast<uint32_t>(b);
+    hist_[np] = hist_[q];
+    ++np;
+  }
+  npairs_ = np;
+  istart_.assign(p_.size() + 1, 0);
+  for (std::size_t q = 0; q < npairs_; ++q) ++istart_[pi_[q] + 1];
+  for (std::size_t i = 0; i < p_.size(); ++i) istart_[i + 1] += istart_[i];
+  x0_.resize(p_.size());
+  y0_.resize(p_.size());
+  z0_.resize(p_.size());
+  n_known_ = p_.size();
+  need_rebuild_ = true;
+  dt_checked_ = false;
+  for (auto& ia : interactions_) ia->on_reindex(map);
+}
+
+void World::remove_particles_by_id(const std::vector<uint64_t>& ids) {
+  std::vector<char> rm(p_.size(), 0);
+  for (uint64_t id : ids) {
+    const long i = index_of(id);
+    if (i < 0) throw std::invalid_argument("dem::World::remove_particles_by_id: no particle with id " + std::to_string(id));
+    rm[i] = 1;
+  }
+  remove_particles(rm);
+}
+
+// Grows the per-particle arrays after particles were appended (new pairs/histories start empty).
+void World::resize_per_particle() {
+  const std::size_t n = p_.size(), nw = walls_.size();
+  if (n == n_known_ && whist_.size() == n * nw) return;
+  if (whist_.size() != n_known_ * nw) {
+    // walls were added: re-lay the wall histories out as [particle][wall]
+    const std::size_t nw_old = n_known_ > 0 ? whist_.size() / n_known_ : 0;
+    std::vector<std::array<double, 3>> h(n * nw, std::array<double, 3>{{0, 0, 0}});
+    for (std::size_t i = 0; i < n_known_; ++i)
+      for (std::size_t w = 0; w < nw_old && w < nw; ++w) h[i * nw + w] = whist_[i * nw_old + w];
+    whist_.swap(h);
+  } else {
+    whist_.resize(n * nw, std::array<double, 3>{{0, 0, 0}});
+  }
+  if (istart_.size() < n + 1) istart_.resize(n + 1, npairs_);
+  if (istart_.empty()) istart_.assign(n + 1, 0);
+  const std::size_t last = istart_.size() > n_known_ ? istart_[n_known_] : 0;
+  istart_.resize(n + 1);
+  for (std::size_t i = n_known_ + 1; i <= n; ++i) istart_[i] = static_cast<uint32_t>(last);
+  x0_.resize(n);
+  y0_.resize(n);
+  z0_.resize(n);
+  n_known_ = n;
+  bonds_dirty_ = true;
+  need_rebuild_ = true;
+}
+
+// ------------------------------------------------------------------ walls
+int World::add_plane(const double point[3], const double normal[3], int material) {
+  if (material < 0 || material >= prm_.materials.n())
+    throw std::invalid_argument("dem::World::add_plane: material index " + std::to_string(material) +
+                                " not in [0, " + std::to_string(prm_.materials.n()) + ")");
+  resize_per_particle();
+  const std::size_t n = p_.size(), nw = walls_.size();
+  walls_.push_back(PlanarWall::make(point, normal, material));
+  std::vector<std::array<double, 3>> h(n * (nw + 1), std::array<double, 3>{{0, 0, 0}});
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t w = 0; w < nw; ++w) h[i * (nw + 1) + w] = whist_[i * nw + w];
+  whist_.swap(h);
+  return static_cast<int>(walls_.size()) - 1;
+}
+
+int World::add_box(const double lo[3], const double hi[3], int material, bool with_top) {
+  for (int k = 0; k < 3; ++k)
+    if (!(hi[k] > lo[k])) throw std::invalid_argument("dem::World::add_box: need hi > lo in every axis");
+  const int first = static_cast<int>(walls_.size());
+  for (int k = 0; k < 3; ++k) {
+    double nlo[3] = {0, 0, 0}, nhi[3] = {0, 0, 0};
+    nlo[k] = 1;
+    nhi[k] = -1;
+    add_plane(lo, nlo, material);
+    if (k < 2 || with_top) add_plane(hi, nhi, material);
+  }
+  return first;
+}
+
+void World::set_wall_velocity(int k, const double v[3]) {
+  PlanarWall& w = walls_.at(k);
+  for (int a = 0; a < 3; ++a) w.v[a] = v[a];
+}
+
+void World::set_wall_position(int k, const double point[3]) {
+  PlanarWall& w = walls_.at(k);
+  for (int a = 0; a < 3; ++a) w.p[a] = point[a];
+}
+
+// ------------------------------------------------------------------ bonds
+std::size_t World::n_bonds_intact() const {
+  std::size_t n = 0;
+  for (const Bond& b : bonds_) n += b.alive ? 1 : 0;
+  return n;
+}
+
+std::size_t World::bond_pairs(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, const BondParams& bp) {
+  bp.validate();
+  resize_per_particle();
+  if (bonds_dirty_) rebuild_bond_csr();
+  std::size_t added = 0;
+  std::set<std::pair<std::size_t, std::size_t>> seen;
+  for (const auto& pr : pairs) {
+    std::size_t i = pr.first, j = pr.second;
+    if (i >= p_.size() || j >= p_.size() || i == j)
+      throw std::invalid_argument("dem::World::bond_pairs: invalid pair (" + std::to_string(i) + ", " +
+                                  std::to_string(j) + ") for " + std::to_string(p_.size()) + " particles");
+    if (i > j) std::swap(i, j);
+    if (bonded(static_cast<uint32_t>(i), static_cast<uint32_t>(j)) || !seen.insert({i, j}).second) continue;
+    Bond b;
+    b.i = static_cast<uint32_t>(i);
+    b.j = static_cast<uint32_t>(j);
+    b.rb = bp.radius > 0 ? bp.radius : bp.radius_multiplier * std::min(p_.r[i], p_.r[j]);  // Eq. 20
+    b.A = M_PI * b.rb * b.rb;                                                                // Eq. 23
+    b.J = 0.5 * M_PI * b.rb * b.rb * b.rb * b.rb;
+    b.kn = bp.kn;
+    b.kt = bp.kt;
+    b.sigma_c = bp.sigma_c;
+    b.tau_c = bp.tau_c;
+    b.damping = bp.damping;
+    bonds_.push_back(b);
+    ++added;
+  }
+  bonds_dirty_ = true;
+  need_rebuild_ = true;  // bonded pairs leave the contact list
+  dt_checked_ = false;
+  return added;
+}
+
+std::size_t World::bond_within(double gap_tolerance, const BondParams& bp, std::size_t first, std::size_t last) {
+  bp.validate();
+  if (!std::isfinite(gap_tolerance))
+    throw std::invalid_argument("dem::World::bond_within: gap tolerance must be finite");
+  if (last > p_.size()) last = p_.size();
+  if (first >= last) return 0;
+  double rmax = 0;
+  for (std::size_t i = first; i < last; ++i) rmax = std::max(rmax, p_.r[i]);
+  CellGrid g;
+  g.build(p_, first, last, 2 * rmax + std::max(gap_tolerance, 0.0));
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t i = first; i < last; ++i) {
+    int cx, cy, cz;
+    g.coords(g.cell_of[i - first], cx, cy, cz);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int ax = cx + dx, ay = cy + dy, az = cz + dz;
+          if (ax < 0 || ay < 0 || az < 0 || ax >= g.nx || ay >= g.ny || az >= g.nz) continue;
+          const int c = g.cell_index(ax, ay, az);
+          for (uint32_t s = g.start[c]; s < g.start[c + 1]; ++s) {
+            const std::size_t j = g.items[s];
+            if (j <= i) continue;
+            const double ddx = p_.x[j] - p_.x[i], ddy = p_.y[j] - p_.y[i], ddz = p_.z[j] - p_.z[i];
+            const double gap = std::sqrt(ddx * ddx + ddy * ddy + ddz * ddz) - p_.r[i] - p_.r[j];
+            if (gap < gap_tolerance) pairs.emplace_back(i, j);
+          }
+        }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return bond_pairs(pairs, bp);
+}
+
+void World::rebuild_bond_csr() {
+  // drop broken bonds, then index bonds per particle
+  std::size_t nb = 0;
+  for (std::size_t b = 0; b < bonds_.size(); ++b)
+    if (bonds_[b].alive) bonds_[nb++] = bonds_[b];
+  bonds_.resize(nb);
+  const std::size_t n = p_.size();
+  bstart_.assign(n + 1, 0);
+  for (const Bond& b : bonds_) {
+    ++bstart_[b.i + 1];
+    ++bstart_[b.j + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) bstart_[i + 1] += bstart_[i];
+  bref_.resize(2 * nb);
+  cnt_.assign(bstart_.begin(), bstart_.end() - 1);
+  for (std::size_t b = 0; b < nb; ++b) {
+    bref_[cnt_[bonds_[b].i]++] = static_cast<uint32_t>(2 * b);
+    bref_[cnt_[bonds_[b].j]++] = static_cast<uint32_t>(2 * b + 1);
+  }
+  bout_.resize(nb);
+  bonds_dirty_ = false;
+}
+
+bool World::bonded(uint32_t i, uint32_t j) const {
+  for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
+    const Bond& b = bonds_[bref_[s] >> 1];
+    if (b.alive && (b.i == j || b.j == j)) return true;
+  }
+  return false;
+}
+
+// ------------------------------------------------------------------ time step
+TimeStepCheck World::time_step_check() const {
+  return check_time_step(prm_.dt, p_, prm_.materials, bonds_, prm_.max_rayleigh_fraction);
+}
+
+void World::require_stable_time_step() const {
+  const TimeStepCheck c = time_step_check();
+  if (!c.ok) throw std::invalid_argument(c.message);
+}
+
+void World::set_dt(double dt) {
+  if (!(dt > 0)) throw std::invalid_argument("dem::World::set_dt: dt must be > 0 s, got " + std::to_string(dt));
+  prm_.dt = dt;
+  dt_checked_ = false;
+}
+
+// ------------------------------------------------------------------ neighbour list
+void World::rebuild() {
+  if (bonds_dirty_) rebuild_bond_csr();
+  const std::size_t n = p_.size();
+  double rmax = 0;
+  for (std::size_t i = 0; i < n; ++i) rmax = std::max(rmax, p_.r[i]);
+  if (skin_ < 0) skin_ = 0.2 * rmax;
+  grid_.build(p_, 0, n, 2 * rmax + skin_);
+  const double skin = skin_;
+  const CellGrid& g = grid_;
+  cnt_.resize(n + 1);
+  // pass 1: count pairs per owner (i < j) ; pass 2: fill. Both in the same fixed order.
+  for (int pass = 0; pass < 2; ++pass) {
+    if (pass == 1) {
+      // prefix sum -> new istart (kept in cnt_), sized buffers
+      uint32_t acc = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t c = cnt_[i];
+        cnt_[i] = acc;
+        acc += c;
+      }
+      cnt_[n] = acc;
+      if (pj2_.size() < acc) {
+        const std::size_t cap = acc + acc / 4 + 16;
+        pj2_.resize(cap);
+        pi2_.resize(cap);
+        hist2_.resize(cap);
+      }
+    }
+#pragma omp parallel for schedule(dynamic, 256) num_threads(nt_)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i], ri = p_.r[i];
+      int cx, cy, cz;
+      g.coords(g.cell_of[i], cx, cy, cz);
+      uint32_t count = 0;
+      uint32_t out = pass == 1 ? cnt_[i] : 0;
+      const uint32_t os = istart_[i], oe = istart_[i + 1];
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int az = cz + dz;
+        if (az < 0 || az >= g.nz) continue;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int ay = cy + dy;
+          if (ay < 0 || ay >= g.ny) continue;
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int ax = cx + dx;
+            if (ax < 0 || ax >= g.nx) continue;
+            const int c = g.cell_index(ax, ay, az);
+            for (uint32_t s = g.start[c]; s < g.start[c + 1]; ++s) {
+              const uint32_t j = g.items[s];
+              if (j <= i) continue;
+              const double ddx = p_.x[j] - xi, ddy = p_.y[j] - yi, ddz = p_.z[j] - zi;
+              const double cut = ri + p_.r[j] + skin;
+              if (ddx * ddx + ddy * ddy + ddz * ddz >= cut * cut) continue;
+              if (bstart_[i] != bstart_[i + 1] && bonded(static_cast<uint32_t>(i), j)) continue;
+              if (pass == 0) {
+                ++count;
+              } else {
+                pi2_[out] = static_cast<uint32_t>(i);
+                pj2_[out] = j;
+                std::array<double, 3> h{{0, 0, 0}};
+                for (uint32_t q = os; q < oe; ++q)
+                  if (pj_[q] == j) {
+                    h = hist_[q];
+                    break;
+                  }
+                hist2_[out] = h;
+                ++out;
+              }
+            }
+          }
+        }
+      }
+      if (pass == 0) cnt_[i] = count;
+    }
+  }
+  // the new list is ordered by owner, but within an owner by cell order; sort each owner's pairs by j so
+  // the lookup above and the gather order do not depend on the grid
+  npairs_ = cnt_[n];
+#pragma omp parallel for schedule(dynamic, 256) num_threads(nt_)
+  for (std::size_t i = 0; i < n; ++i) {
+    const uint32_t s = cnt_[i], e = cnt_[i + 1];
+    for (uint32_t a = s + 1; a < e; ++a) {  // insertion sort (few entries)
+      const uint32_t j = pj2_[a];
+      const std::array<double, 3> h = hist2_[a];
+      uint32_t b = a;
+      while (b > s && pj2_[b - 1] > j) {
+        pj2_[b] = pj2_[b - 1];
+        hist2_[b] = hist2_[b - 1];
+        --b;
+      }
+      pj2_[b] = j;
+      hist2_[b] = h;
+    }
+  }
+  pj_.swap(pj2_);
+  pi_.swap(pi2_);
+  hist_.swap(hist2_);
+  istart_.assign(cnt_.begin(), cnt_.begin() + n + 1);
+  if (pout_.size() < pj_.size()) pout_.resize(pj_.size());
+  // j-side references, in pair order
+  jstart_.assign(n + 1, 0);
+  for (std::size_t q = 0; q < npairs_; ++q) ++jstart_[pj_[q] + 1];
+  for (std::size_t i = 0; i < n; ++i) jstart_[i + 1] += jstart_[i];
+  if (jref_.size() < npairs_) jref_.resize(pj_.size());
+  cnt_.assign(jstart_.begin(), jstart_.end() - 1);
+  for (std::size_t q = 0; q < npairs_; ++q) jref_[cnt_[pj_[q]]++] = static_cast<uint32_t>(q);
+#pragma omp parallel for schedule(static) num_threads(nt_)
+  for (std::size_t i = 0; i < n; ++i) {
+    x0_[i] = p_.x[i];
+    y0_[i] = p_.y[i];
+    z0_[i] = p_.z[i];
+  }
+  need_rebuild_ = false;
+  ++nrebuild_;
+}
+
+// ------------------------------------------------------------------ forces
+void World::pair_forces() {
+  const double dt = prm_.dt;
+  const MaterialTable& mt = prm_.materials;
+  const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
+  const double* vx = p_.vx.data(); const double* vy = p_.vy.data(); const double* vz = p_.vz.data();
+  const double* wx = p_.wx.data(); const double* wy = p_.wy.data(); const double* wz = p_.wz.data();
+  const double* r = p_.r.data(); const double* m = p_.m.data(); const int* mat = p_.material.data();
+  const uint32_t* PI = pi_.data(); const uint32_t* PJ = pj_.data();
+  std::array<double, 3>* H = hist_.data();
+  PairOut* O = pout_.data();
+  const long np = static_cast<long>(npairs_);
+#pragma omp parallel for schedule(static) num_threads(nt_)
+  for (long q = 0; q < np; ++q) {
+    const uint32_t i = PI[q], j = PJ[q];
+    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+    const double rs = r[i] + r[j];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    PairOut& o = O[q];
+    if (d2 >= rs * rs) {
+      H[q][0] = H[q][1] = H[q][2] = 0.0;
+      for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
+      continue;
+    }
+    const double d = std::sqrt(d2), id = 1.0 / d;
+    const double n[3] = {dx * id, dy * id, dz * id};  // from j to i
+    const double ai = d * r[i] / rs, aj = d - ai;      // centre-to-contact distances
+    // v_i + w_i x (-ai n) - v_j - w_j x (aj n)
+    const double vrel[3] = {vx[i] - vx[j] - ai * (wy[i] * n[2] - wz[i] * n[1]) - aj * (wy[j] * n[2] - wz[j] * n[1]),
+                            vy[i] - vy[j] - ai * (wz[i] * n[0] - wx[i] * n[2]) - aj * (wz[j] * n[0] - wx[j] * n[2]),
+                            vz[i] - vz[j] - ai * (wx[i] * n[1] - wy[i] * n[0]) - aj * (wx[j] * n[1] - wy[j] * n[0])};
+    const double wrel[3] = {wx[i] - wx[j], wy[i] - wy[j], wz[i] - wz[j]};
+    const double reff = r[i] * r[j] / rs, meff = m[i] * m[j] / (m[i] + m[j]);
+    ContactForce c;
+    hertz_mindlin(rs - d, n, vrel, wrel, reff, meff, mt.pair(mat[i], mat[j]), dt, H[q].data(), c);
+    // torques: -ai n x f + T_r on i ; (aj n) x (-f) - T_r on j
+    const double cx = n[1] * c.f[2] - n[2] * c.f[1], cy = n[2] * c.f[0] - n[0] * c.f[2],
+                 cz = n[0] * c.f[1] - n[1] * c.f[0];
+    o.f[0] = c.f[0]; o.f[1] = c.f[1]; o.f[2] = c.f[2];
+    o.ti[0] = -ai * cx + c.troll[0]; o.ti[1] = -ai * cy + c.troll[1]; o.ti[2] = -ai * cz + c.troll[2];
+    o.tj[0] = -aj * cx - c.troll[0]; o.tj[1] = -aj * cy - c.troll[1]; o.tj[2] = -aj * cz - c.troll[2];
+  }
+}
+
+void World::bond_forces() {
+  const long nb = static_cast<long>(bonds_.size());
+  if (nb == 0) return;
+  const double dt = prm_.dt;
+  long nbroken = 0;
+#pragma omp parallel for schedule(static) num_threads(nt_) reduction(+ : nbroken)
+  for (long b = 0; b < nb; ++b) {
+    Bond& bd = bonds_[b];
+    BondOutSlot& o = bout_[b];
+    if (!bd.alive) {
+      for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
+      o.code = 0;
+      continue;
+    }
+    const uint32_t i = bd.i, j = bd.j;
+    const double xi[3] = {p_.x[i], p_.y[i], p_.z[i]}, xj[3] = {p_.x[j], p_.y[j], p_.z[j]};
+    const double vi[3] = {p_.vx[i], p_.vy[i], p_.vz[i]}, vj[3] = {p_.vx[j], p_.vy[j], p_.vz[j]};
+    const double wi[3] = {p_.wx[i], p_.wy[i], p_.wz[i]}, wj[3] = {p_.wx[j], p_.wy[j], p_.wz[j]};
+    BondOut out;
+    const int code = bond_update(bd, xi, xj, vi, vj, wi, wj, p_.r[i], p_.r[j], p_.m[i], p_.m[j], 1.0 / p_.inv_I[i],
+                                 1.0 / p_.inv_I[j], dt, out);
+    for (int k = 0; k < 3; ++k) {
+      o.f[k] = out.f[k];
+      o.ti[k] = out.ti[k];
+      o.tj[k] = out.tj[k];
+    }
+    o.sigma = out.sigma;
+    o.tau = out.tau;
+    o.code = code;
+    if (code) ++nbroken;
+  }
+  if (nbroken == 0) return;
+  for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
+    if (!bout_[b].code) continue;
+    Bond& bd = bonds_[b];
+    bd.alive = 0;
+    BondBreak e;
+    e.t = t_ + prm_.dt;
+    const double ri = p_.r[bd.i], rj = p_.r[bd.j], s = ri / (ri + rj);
+    e.x[0] = p_.x[bd.i] + s * (p_.x[bd.j] - p_.x[bd.i]);
+    e.x[1] = p_.y[bd.i] + s * (p_.y[bd.j] - p_.y[bd.i]);
+    e.x[2] = p_.z[bd.i] + s * (p_.z[bd.j] - p_.z[bd.i]);
+    e.id_i = p_.id[bd.i];
+    e.id_j = p_.id[bd.j];
+    e.tensile = bout_[b].code == 1;
+    e.sigma = bout_[b].sigma;
+    e.tau = bout_[b].tau;
+    breaks_.push_back(e);
+  }
+  // the broken pairs take part in Hertz-Mindlin contact from the next step on
+  bonds_dirty_ = true;
+  need_rebuild_ = true;
+}
+
+void World::gather_forces() {
+  const long n = static_cast<long>(p_.size());
+  const std::size_t nw = walls_.size();
+  const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
+  const double dt = prm_.dt;
+  const MaterialTable& mt = prm_.materials;
+  const bool have_bonds = !bonds_.empty();
+  wforce_thr_.assign(static_cast<std::size_t>(nt_) * nw * 3, 0.0);
+#pragma omp parallel num_threads(nt_)
+  {
+    double* wf = wforce_thr_.data() + static_cast<std::size_t>(omp_get_thread_num()) * nw * 3;
+#pragma omp for schedule(static)
+    for (long i = 0; i < n; ++i) {
+      const double mi = p_.m[i];
+      double f[3] = {mi * g[0], mi * g[1], mi * g[2]};
+      double t[3] = {0, 0, 0};
+      for (uint32_t q = istart_[i]; q < istart_[i + 1]; ++q) {
+        const PairOut& o = pout_[q];
+        f[0] += o.f[0]; f[1] += o.f[1]; f[2] += o.f[2];
+        t[0] += o.ti[0]; t[1] += o.ti[1]; t[2] += o.ti[2];
+      }
+      for (uint32_t s = jstart_[i]; s < jstart_[i + 1]; ++s) {
+        const PairOut& o = pout_[jref_[s]];
+        f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
+        t[0] += o.tj[0]; t[1] += o.tj[1]; t[2] += o.tj[2];
+      }
+      if (have_bonds) {
+        for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
+          const uint32_t ref = bref_[s];
+          const BondOutSlot& o = bout_[ref >> 1];
+          if (ref & 1u) {  // i is the bond's j
+            f[0] += o.f[0]; f[1] += o.f[1]; f[2] += o.f[2];
+            t[0] += o.tj[0]; t[1] += o.tj[1]; t[2] += o.tj[2];
+          } else {
+            f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
+            t[0] += o.ti[0]; t[1] += o.ti[1]; t[2] += o.ti[2];
+          }
+        }
+      }
+      for (std::size_t k = 0; k < nw; ++k) {
+        const PlanarWall& w = walls_[k];
+        const double dist = (p_.x[i] - w.p[0]) * w.n[0] + (p_.y[i] - w.p[1]) * w.n[1] + (p_.z[i] - w.p[2]) * w.n[2];
+        std::array<double, 3>& h = whist_[i * nw + k];
+        if (dist >= p_.r[i]) {
+          h[0] = h[1] = h[2] = 0.0;
+          continue;
+        }
+        const double* nn = w.n;
+        const double wxi = p_.wx[i], wyi = p_.wy[i], wzi = p_.wz[i];
+        // v_i + w_i x (-dist n) - v_wall
+        const double vrel[3] = {p_.vx[i] - dist * (wyi * nn[2] - wzi * nn[1]) - w.v[0],
+                                p_.vy[i] - dist * (wzi * nn[0] - wxi * nn[2]) - w.v[1],
+                                p_.vz[i] - dist * (wxi * nn[1] - wyi * nn[0]) - w.v[2]};
+        const double wrel[3] = {wxi, wyi, wzi};
+        ContactForce c;
+        hertz_mindlin(p_.r[i] - dist, nn, vrel, wrel, p_.r[i], mi, mt.pair(p_.material[i], w.material), dt, h.data(), c);
+        f[0] += c.f[0]; f[1] += c.f[1]; f[2] += c.f[2];
+        t[0] += -dist * (nn[1] * c.f[2] - nn[2] * c.f[1]) + c.troll[0];
+        t[1] += -dist * (nn[2] * c.f[0] - nn[0] * c.f[2]) + c.troll[1];
+        t[2] += -dist * (nn[0] * c.f[1] - nn[1] * c.f[0]) + c.troll[2];
+        wf[3 * k] -= c.f[0]; wf[3 * k + 1] -= c.f[1]; wf[3 * k + 2] -= c.f[2];
+      }
+      p_.fx[i] = f[0]; p_.fy[i] = f[1]; p_.fz[i] = f[2];
+      p_.tx[i] = t[0]; p_.ty[i] = t[1]; p_.tz[i] = t[2];
+    }
+  }
+  for (std::size_t k = 0; k < nw; ++k) {
+    double s[3] = {0, 0, 0};
+    for (int th = 0; th < nt_; ++th)
+      for (int a = 0; a < 3; ++a) s[a] += wforce_thr_[(static_cast<std::size_t>(th) * nw + k) * 3 + a];
+    for (int a = 0; a < 3; ++a) walls_[k].force[a] = s[a];
+  }
+}
+
+// ------------------------------------------------------------------ stepping
+void World::prepare() {
+  resize_per_particle();
+  if (bonds_dirty_) rebuild_bond_csr();
+  if (prm_.check_time_step && !dt_checked_ && p_.size() > 0) require_stable_time_step();
+  dt_checked_ = true;
+}
+
+void World::step(long nsteps) {
+  if (nsteps < 0) throw std::invalid_argument("dem::World::step: negative step count");
+  prepare();
+  const long n = static_cast<long>(p_.size());
+  const double dt = prm_.dt, hdt = 0.5 * dt;
+  double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
+  double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
+  double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
+  const double* fx = p_.fx.data(); const double* fy = p_.fy.data(); const double* fz = p_.fz.data();
+  const double* tx = p_.tx.data(); const double* ty = p_.ty.data(); const double* tz = p_.tz.data();
+  const double* im = p_.inv_m.data(); const double* iI = p_.inv_I.data();
+  const char* fixed = p_.fixed.data();
+  for (long s = 0; s < nsteps; ++s) {
+    double maxd2 = 0;
+    const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
+    // half kick + drift
+#pragma omp parallel for schedule(static) num_threads(nt_) reduction(max : maxd2)
+    for (long i = 0; i < n; ++i) {
+      if (!fixed[i]) {
+        vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
+        wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
+      }
+      x[i] += dt * vx[i]; y[i] += dt * vy[i]; z[i] += dt * vz[i];
+      const double ddx = x[i] - X0[i], ddy = y[i] - Y0[i], ddz = z[i] - Z0[i];
+      const double d2 = ddx * ddx + ddy * ddy + ddz * ddz;
+      // NaN compares false: force a rebuild, whose grid reports the non-finite particle
+      maxd2 = std::max(maxd2, d2 == d2 ? d2 : std::numeric_limits<double>::infinity());
+    }
+    for (PlanarWall& w : walls_)
+      for (int a = 0; a < 3; ++a) w.p[a] += dt * w.v[a];
+    if (need_rebuild_ || 4.0 * maxd2 > skin_ * skin_ || skin_ < 0) rebuild();
+    pair_forces();
+    bond_forces();
+    gather_forces();
+    t_ += dt;
+    for (auto& ia : interactions_) ia->add_forces(p_, t_, dt);
+#pragma omp parallel for schedule(static) num_threads(nt_)
+    for (long i = 0; i < n; ++i) {
+      if (fixed[i]) continue;
+      vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
+      wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
+    }
+    ++nstep_;
+  }
+}
+
+// ------------------------------------------------------------------ observables
+double World::kinetic_energy() const {
+  double e = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    e += 0.5 * p_.m[i] * (p_.vx[i] * p_.vx[i] + p_.vy[i] * p_.vy[i] + p_.vz[i] * p_.vz[i]);
+    e += 0.5 / p_.inv_I[i] * (p_.wx[i] * p_.wx[i] + p_.wy[i] * p_.wy[i] + p_.wz[i] * p_.wz[i]);
+  }
+  return e;
+}
+
+std::size_t World::n_contacts() const {
+  std::size_t c = 0;
+  for (std::size_t q = 0; q < npairs_; ++q) {
+    const uint32_t i = pi_[q], j = pj_[q];
+    const double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j], dz = p_.z[i] - p_.z[j];
+    const double rs = p_.r[i] + p_.r[j];
+    if (dx * dx + dy * dy + dz * dz < rs * rs) ++c;
+  }
+  return c;
+}
+
+double World::bytes_per_particle() const {
+  const double n = std::max<std::size_t>(p_.size(), 1);
+  double b = 19.0 * 8 * p_.x.capacity() + 8.0 * p_.id.capacity() + 4.0 * p_.material.capacity();
+  b += 3.0 * 8 * x0_.capacity() + 4.0 * (istart_.capacity() + jstart_.capacity() + bstart_.capacity());
+  b += 24.0 * whist_.capacity();
+  b += 4.0 * (grid_.items.capacity() + grid_.cell_of.capacity() + grid_.start.capacity());
+  // neighbour pairs belong to the particles (contacts)
+  b += (4.0 + 4.0 + 24.0) * (pj_.capacity()) + sizeof(PairOut) * pout_.capacity() + 4.0 * jref_.capacity();
+  b += (4.0 + 4.0 + 24.0) * pj2_.capacity() + 4.0 * cnt_.capacity();
+  return b / n;
+}
+
+double World::bytes_per_bond() const {
+  const double nb = std::max<std::size_t>(bonds_.size(), 1);
+  return (sizeof(Bond) * bonds_.capacity() + sizeof(BondOutSlot) * bout_.capacity() + 4.0 * bref_.capacity()) / nb;
+}
+
+}  // namespace dem

@@ -1,0 +1,154 @@
+#pragma once
+// dem::World: the DEM engine. Spheres (Particles), Hertz-Mindlin contacts with history and rolling friction
+// (hertz_mindlin.hpp), bonds (bond_law.hpp), moving planar walls (walls.hpp) and extra force terms
+// (Interaction, e.g. triangle meshes). Velocity-Verlet integration, cell-list Verlet neighbour list,
+// OpenMP with results identical run to run for a given thread count: every force is computed per pair or
+// per bond into its own slot and gathered per particle in a fixed order.
+//
+// Step order: half kick (v += dt/2 F/m, w += dt/2 T/I) -> drift (x += dt v, walls move) -> neighbour list
+// rebuild if any particle moved more than skin/2 -> pair forces -> bond forces (breaks logged) -> gather,
+// gravity and wall forces -> Interaction::add_forces -> half kick. Forces of a new particle are zero until
+// its first step.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "dem/bonds.hpp"
+#include "dem/cell_grid.hpp"
+#include "dem/interaction.hpp"
+#include "dem/materials.hpp"
+#include "dem/particles.hpp"
+#include "dem/time_step.hpp"
+#include "dem/walls.hpp"
+
+namespace dem {
+
+struct WorldParams {
+  double dt = 1e-6;                             // s
+  std::array<double, 3> gravity{{0, 0, -9.81}};  // m/s^2
+  double skin = -1;                 // Verlet skin (m); < 0: 0.1 x the largest diameter at the first build
+  int threads = 0;                  // OpenMP threads; 0: omp_get_max_threads()
+  double max_rayleigh_fraction = 0.5;  // step() refuses dt above this fraction of the Rayleigh step
+  bool check_time_step = true;      // step() checks dt (Rayleigh and bonds) whenever particles/bonds changed
+  MaterialTable materials = default_table4();
+};
+
+class World {
+ public:
+  explicit World(const WorldParams& params);
+
+  // ---- particles (ids are stable; indices change on removal)
+  // Solid sphere with the material's density. v, w may be null (zero).
+  std::size_t add_particle(const double x[3], double radius, int material, const double v[3] = nullptr,
+                           const double w[3] = nullptr);
+  std::size_t add_particle(const double x[3], double radius, int material, double density, const double v[3],
+                           const double w[3]);
+  // Removes particles with remove[i] != 0 and their bonds (not logged as breaks); keeps the others' order.
+  void remove_particles(const std::vector<char>& remove);
+  void remove_particles_by_id(const std::vector<uint64_t>& ids);
+  long index_of(uint64_t id) const;  // -1 if absent
+  Particles& particles() { return p_; }  // may move/modify state; call invalidate_neighbors() after teleporting
+  const Particles& particles() const { return p_; }
+  void invalidate_neighbors() { need_rebuild_ = true; }
+
+  // ---- walls
+  int add_plane(const double point[3], const double normal[3], int material);
+  // Six inward-facing planes of the box [lo, hi] (x-, x+, y-, y+, z-, z+); with_top = false leaves out z+.
+  // Returns the index of the first plane.
+  int add_box(const double lo[3], const double hi[3], int material, bool with_top = true);
+  void set_wall_velocity(int k, const double v[3]);
+  void set_wall_position(int k, const double point[3]);
+  const PlanarWall& wall(int k) const { return walls_.at(k); }
+  std::size_t n_walls() const { return walls_.size(); }
+
+  // ---- bonds (Eq. 20-25). Formation sets the spring state to zero at the current geometry.
+  // Bonds every unbonded pair with both indices in [first, last) whose gap d - r_i - r_j < gap_tolerance.
+  std::size_t bond_within(double gap_tolerance, const BondParams& bp, std::size_t first = 0,
+                          std::size_t last = static_cast<std::size_t>(-1));
+  std::size_t bond_pairs(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, const BondParams& bp);
+  const std::vector<Bond>& bonds() const { return bonds_; }  // may hold broken ones (alive == 0)
+  std::size_t n_bonds_intact() const;
+  const std::vector<BondBreak>& breaks() const { return breaks_; }
+  void clear_breaks() { breaks_.clear(); }
+
+  // ---- extra forces (meshes); called every step after pair, bond and wall forces
+  void add_interaction(std::shared_ptr<Interaction> ia) { interactions_.push_back(std::move(ia)); }
+
+  // ---- time stepping
+  TimeStepCheck time_step_check() const;
+  void require_stable_time_step() const;  // throws std::invalid_argument with both critical steps
+  void set_dt(double dt);
+  double dt() const { return prm_.dt; }
+  void step(long n = 1);
+  double time() const { return t_; }
+  long step_count() const { return nstep_; }
+
+  // ---- observables
+  double kinetic_energy() const;  // translational + rotational (J)
+  std::size_t n_contacts() const;  // touching particle pairs at the last step
+  std::size_t n_pairs() const { return npairs_; }  // neighbour-list pairs
+  long n_rebuilds() const { return nrebuild_; }
+  const MaterialTable& materials() const { return prm_.materials; }
+  int threads() const { return nt_; }
+  double skin() const { return skin_; }
+  // Memory of the engine's arrays (capacity) per particle and per intact bond, for the benchmark.
+  double bytes_per_particle() const;
+  double bytes_per_bond() const;
+
+ private:
+  struct PairOut {
+    double f[3], ti[3], tj[3];
+  };
+  struct BondOutSlot {
+    double f[3], ti[3], tj[3];
+    double sigma, tau;
+    int code;
+  };
+  void prepare();
+  void rebuild();
+  void rebuild_bond_csr();
+  void resize_per_particle();
+  void pair_forces();
+  void bond_forces();
+  void gather_forces();
+  bool bonded(uint32_t i, uint32_t j) const;
+
+  WorldParams prm_;
+  Particles p_;
+  int nt_ = 1;
+  double skin_ = -1;
+  double t_ = 0;
+  long nstep_ = 0, nrebuild_ = 0;
+  bool need_rebuild_ = true, bonds_dirty_ = true, dt_checked_ = false;
+  std::size_t n_known_ = 0;  // particle count the per-particle arrays are sized for
+
+  // neighbour list: pairs (i < j) grouped by owner i: i's pairs are [istart[i], istart[i+1])
+  std::size_t npairs_ = 0;
+  std::vector<uint32_t> pj_, pi_;
+  std::vector<std::array<double, 3>> hist_;
+  std::vector<PairOut> pout_;
+  std::vector<uint32_t> istart_, jstart_, jref_;
+  // double buffers for the rebuild
+  std::vector<uint32_t> pj2_, pi2_, cnt_;
+  std::vector<std::array<double, 3>> hist2_;
+  std::vector<double> x0_, y0_, z0_;
+  CellGrid grid_;
+
+  // walls
+  std::vector<PlanarWall> walls_;
+  std::vector<std::array<double, 3>> whist_;  // [particle * n_walls + wall]
+  std::vector<double> wforce_thr_;            // per thread partial wall forces
+
+  // bonds
+  std::vector<Bond> bonds_;
+  std::vector<BondOutSlot> bout_;
+  std::vector<uint32_t> bstart_, bref_;  // per particle: refs 2 * bond + (0: i side, 1: j side)
+  std::vector<BondBreak> breaks_;
+
+  std::vector<std::shared_ptr<Interaction>> interactions_;
+};
+
+}  // namespace dem
