@@ -1,0 +1,123 @@
+#include "core/chamber_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/units.hpp"
+
+namespace core {
+
+double Profile::radius_at(double zq) const {
+  const std::size_t n = z.size();
+  if (n == 0) return 0.0;
+  if (n == 1) return r[0];
+  const bool up = z[n - 1] > z[0];
+  const double zlo = up ? z[0] : z[n - 1], zhi = up ? z[n - 1] : z[0];
+  if (zq <= zlo) return up ? r[0] : r[n - 1];
+  if (zq >= zhi) return up ? r[n - 1] : r[0];
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double a = z[i], b = z[i + 1];
+    if ((zq - a) * (zq - b) <= 0.0) {
+      const double t = (zq - a) / (b - a);
+      return r[i] + t * (r[i + 1] - r[i]);
+    }
+  }
+  return r[n - 1];
+}
+
+double Profile::length() const {
+  double s = 0;
+  for (std::size_t i = 0; i + 1 < z.size(); ++i) s += std::hypot(z[i + 1] - z[i], r[i + 1] - r[i]);
+  return s;
+}
+
+Eigen::Vector2d Profile::point_at(double s, Eigen::Vector2d* tangent) const {
+  const std::size_t n = z.size();
+  double acc = 0;
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double L = std::hypot(z[i + 1] - z[i], r[i + 1] - r[i]);
+    if (s <= acc + L || i + 2 == n) {
+      const double t = L > 0 ? std::clamp((s - acc) / L, 0.0, 1.0) : 0.0;
+      if (tangent) *tangent = Eigen::Vector2d(z[i + 1] - z[i], r[i + 1] - r[i]) / (L > 0 ? L : 1.0);
+      return {z[i] + t * (z[i + 1] - z[i]), r[i] + t * (r[i + 1] - r[i])};
+    }
+    acc += L;
+  }
+  if (tangent) *tangent = Eigen::Vector2d(1, 0);
+  return {z[0], r[0]};
+}
+
+double signed_distance_inside(const Profile& p, const Eigen::Vector2d& q, Eigen::Vector2d* normal_zr) {
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d best_n(0, 1);
+  for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+    const Eigen::Vector2d a(p.z[i], p.r[i]), b(p.z[i + 1], p.r[i + 1]);
+    const Eigen::Vector2d ab = b - a;
+    const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    const double d = (a + t * ab - q).norm();
+    if (d < best) {
+      best = d;
+      // Outward (away from the axis) unit normal of the segment in the (z, r) plane.
+      Eigen::Vector2d n(-ab.y(), ab.x());
+      if (n.y() < 0) n = -n;
+      best_n = n.normalized();
+    }
+  }
+  if (normal_zr) *normal_zr = best_n;
+  const bool inside = q.y() < p.radius_at(q.x());
+  return inside ? best : -best;
+}
+
+static void check_profile(const Profile& p, const std::string& name, const std::string& zkey,
+                          const std::string& rkey, const ConfigNode* node) {
+  auto bad = [&](const std::string& key, const std::string& what) {
+    if (node) node->fail(key, what);
+    throw std::invalid_argument("chamber " + name + " (" + key + "): " + what);
+  };
+  if (p.z.size() != p.r.size()) bad(rkey, "must have as many values as " + zkey);
+  if (p.z.size() < 2) bad(zkey, "needs at least 2 points");
+  const double dir = p.z[1] - p.z[0];
+  for (std::size_t i = 0; i + 1 < p.z.size(); ++i) {
+    if ((p.z[i + 1] - p.z[i]) * dir <= 0) bad(zkey, "must be strictly monotonic (top to bottom or bottom to top)");
+  }
+  for (double r : p.r)
+    if (!(r > 0)) bad(rkey, "radii must be > 0");
+}
+
+static void check_gap(const ChamberGeometry& g, const ConfigNode* node) {
+  // Mantle must lie inside the concave over the common height (untilted assembly).
+  for (std::size_t i = 0; i < g.mantle.size(); ++i) {
+    const double zq = g.mantle.z[i];
+    const double rc = g.concave.radius_at(zq);
+    if (!(g.mantle.r[i] < rc)) {
+      std::ostringstream s;
+      s << "mantle point z=" << zq * 1e3 << " mm r=" << g.mantle.r[i] * 1e3
+        << " mm is not inside the concave (r=" << rc * 1e3 << " mm there); the gap must be > 0";
+      if (node) node->fail("mantle_r_mm", s.str());
+      throw std::invalid_argument("chamber: " + s.str());
+    }
+  }
+}
+
+void validate_chamber_geometry(const ChamberGeometry& g) {
+  check_profile(g.mantle, "mantle", "mantle_z_mm", "mantle_r_mm", nullptr);
+  check_profile(g.concave, "concave", "concave_z_mm", "concave_r_mm", nullptr);
+  check_gap(g, nullptr);
+}
+
+ChamberGeometry load_chamber_geometry(const ConfigNode& node) {
+  ChamberGeometry g;
+  g.mantle.z = node.numbers("mantle_z_mm", -5000, 5000, "mm", units::mm);
+  g.mantle.r = node.numbers("mantle_r_mm", 1, 5000, "mm", units::mm);
+  g.concave.z = node.numbers("concave_z_mm", -5000, 5000, "mm", units::mm);
+  g.concave.r = node.numbers("concave_r_mm", 1, 5000, "mm", units::mm);
+  check_profile(g.mantle, "mantle", "mantle_z_mm", "mantle_r_mm", &node);
+  check_profile(g.concave, "concave", "concave_z_mm", "concave_r_mm", &node);
+  check_gap(g, &node);
+  return g;
+}
+
+}  // namespace core

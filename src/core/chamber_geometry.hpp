@@ -1,0 +1,48 @@
+#pragma once
+// Liner profiles of the crushing chamber (mantle on the floating cone B2, concave on the fixed cone B1)
+// as meridian polylines (z, r) of surfaces of revolution. Shared by the MBD cone contact / bed model
+// and by the DEM (liner meshes).
+//
+// Frame convention ("liner frame"): origin at the centre of the spherical joint O1 in the assembled,
+// untilted crusher; z along the body's own axis (up); r the distance from that axis. The mantle profile
+// moves with the floating cone, the concave profile with the fixed cone. Both are given top to bottom
+// or bottom to top (z strictly monotonic), in metres after loading (config in mm).
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/config.hpp"
+
+namespace core {
+
+struct Profile {
+  std::vector<double> z;  // m, strictly monotonic
+  std::vector<double> r;  // m, > 0
+
+  std::size_t size() const { return z.size(); }
+  // Radius at height z by linear interpolation (clamped to the end radii outside the span).
+  double radius_at(double zq) const;
+  // Length of the polyline in the (z, r) plane.
+  double length() const;
+  // Point at arc length s from the first vertex (clamped), and the unit tangent there.
+  Eigen::Vector2d point_at(double s, Eigen::Vector2d* tangent = nullptr) const;  // (z, r)
+};
+
+struct ChamberGeometry {
+  Profile mantle;   // outer surface of the mantle, in the floating cone's liner frame
+  Profile concave;  // inner surface of the concave, in the fixed cone's liner frame
+};
+
+// Signed distance from a meridian point q = (z, r) to a profile, measured in the (z, r) plane:
+// positive when q lies on the axis side of the profile (inside the concave / inside the chamber for
+// the concave; inside the mantle body for the mantle would be negative). `normal_zr` receives the unit
+// direction from q to the closest profile point when the distance is positive (the outward normal
+// of the profile seen from the axis side).
+double signed_distance_inside(const Profile& p, const Eigen::Vector2d& q, Eigen::Vector2d* normal_zr);
+
+// Reads `mantle_z_mm`, `mantle_r_mm`, `concave_z_mm`, `concave_r_mm` (lists in mm) of `node`.
+// Throws ConfigError naming the key when lengths differ, z is not monotonic, r <= 0, or the concave
+// does not enclose the mantle over their common height (gap must stay > 0 in the untilted assembly).
+ChamberGeometry load_chamber_geometry(const ConfigNode& node);
+void validate_chamber_geometry(const ChamberGeometry& g);  // same checks, throws std::invalid_argument
+
+}  // namespace core

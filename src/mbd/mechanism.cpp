@@ -1,0 +1,466 @@
+#include "mbd/mechanism.hpp"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include "mbd/chamber_forces.hpp"
+
+namespace mbd {
+
+namespace {
+
+std::once_flag g_ode_once;
+void init_ode() {
+  std::call_once(g_ode_once, [] { dInitODE2(0); });
+}
+
+Eigen::Vector3d vec(const dReal* v) { return {v[0], v[1], v[2]}; }
+Eigen::Matrix3d mat(const dReal* R) {  // ODE: 3x4 row-major
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = R[i * 4 + j];
+  return m;
+}
+void set_rot(dBodyID b, const Eigen::Matrix3d& m) {
+  dMatrix3 R;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) R[i * 4 + j] = m(i, j);
+    R[i * 4 + 3] = 0;
+  }
+  dBodySetRotation(b, R);
+}
+// Small-rotation vector of R relative to identity (exact axis-angle).
+Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R) {
+  Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+}  // namespace
+
+const char* body_name(BodyId id) {
+  switch (id) {
+    case BodyId::FixedCone: return "fixed_cone";
+    case BodyId::FloatingCone: return "floating_cone";
+    case BodyId::Vibrator: return "vibrator";
+    case BodyId::GlobeBearing: return "globe_bearing";
+    case BodyId::ConnectingShaft: return "connecting_shaft";
+    case BodyId::DriveShaft: return "drive_shaft";
+  }
+  return "?";
+}
+
+struct Mechanism::Impl {
+  MechanismParams p;
+  LoadModel load;
+  ChamberForces chamber;
+  dWorldID world = nullptr;
+  dBodyID body[kBodyCount] = {};
+  dBodyID carriage = nullptr;  // O4 composition
+  dJointID o1 = nullptr, o2 = nullptr, o3 = nullptr, o4_slider = nullptr, o4_pr = nullptr, o5 = nullptr,
+           o6 = nullptr, o7 = nullptr;
+  dJointFeedback o7_feedback{};
+  double t = 0;
+  long steps = 0;
+  // rest references
+  Eigen::Vector3d b1_rest;            // fixed cone COM at rest
+  Eigen::Vector3d tp_local;           // test point in B1 body frame
+  Eigen::Vector3d tp_rest;            // test point world at rest
+  Eigen::Vector3d tp_vel_prev = Eigen::Vector3d::Zero(), tp_acc = Eigen::Vector3d::Zero();
+  double absorber_preload = 0;        // N, carries the weight (static equilibrium at rest)
+  Eigen::Vector3d k_rot, c_rot;       // absorber tilt/twist stiffness and damping
+  Eigen::Vector3d drive_axis{0, 0, 1};
+  double o4_normal_rest = 0;          // (B4 point - B3 axis point) . axis at rest
+  double ecc = 0;                     // vibrator eccentricity
+  double torque = 0;                  // drive torque (last step)
+  double min_gap = 0, bed_force = 0, contact_force = 0;
+  Eigen::Vector3d ext_f[kBodyCount], ext_t[kBodyCount];
+  EnergyAudit audit;
+
+  explicit Impl(const MechanismParams& params, LoadModel l) : p(params), load(l), chamber(params) {}
+  ~Impl() {
+    if (world) dWorldDestroy(world);
+  }
+
+  Eigen::Vector3d pos(int i) const { return vec(dBodyGetPosition(body[i])); }
+  Eigen::Matrix3d rot(int i) const { return mat(dBodyGetRotation(body[i])); }
+  Eigen::Vector3d lvel(int i) const { return vec(dBodyGetLinearVel(body[i])); }
+  Eigen::Vector3d avel(int i) const { return vec(dBodyGetAngularVel(body[i])); }
+
+  dBodyID make_body(const BodyParams& bp, const Eigen::Vector3d& x, const Eigen::Matrix3d& R) {
+    dBodyID b = dBodyCreate(world);
+    dMass m;
+    dMassSetParameters(&m, bp.mass_kg, 0, 0, 0, bp.inertia_kg_m2[0], bp.inertia_kg_m2[1], bp.inertia_kg_m2[2], 0,
+                       0, 0);
+    dBodySetMass(b, &m);
+    dBodySetPosition(b, x[0], x[1], x[2]);
+    set_rot(b, R);
+    dBodySetGyroscopicMode(b, 1);
+    return b;
+  }
+
+  RigidKinematics kin(int i, double liner_z) const {
+    RigidKinematics k;
+    k.x = pos(i);
+    k.R = rot(i);
+    k.v = lvel(i);
+    k.w = avel(i);
+    k.liner_origin = Eigen::Vector3d(0, 0, -liner_z);
+    const auto& bp = i == 0 ? p.fixed_cone : p.floating_cone;
+    k.inv_mass = 1.0 / bp.mass_kg;
+    k.inv_inertia_world = k.R * bp.inertia_kg_m2.cwiseInverse().asDiagonal() * k.R.transpose();
+    return k;
+  }
+
+  void build();
+  void apply_and_step();
+  double constraint_error() const;
+  double mech_energy_parts(double* kin, double* grav, double* elast) const;
+};
+
+void Mechanism::Impl::build() {
+  init_ode();
+  world = dWorldCreate();
+  dWorldSetGravity(world, 0, 0, -p.gravity_m_s2);
+  dWorldSetERP(world, 0.2);
+  dWorldSetCFM(world, 1e-10);
+  ecc = p.vibrator_eccentricity_m();
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  auto& B = body;
+  B[0] = make_body(p.fixed_cone, {0, 0, p.fixed_cone.com_z_m}, I);
+  B[1] = make_body(p.floating_cone, {0, 0, p.floating_cone.com_z_m}, I);
+  // Vibrator: its COM sits at the eccentricity e off the shaft axis (static moment m e).
+  B[2] = make_body(p.vibrator, {ecc, 0, p.vibrator_axis_z_m}, I);
+  B[3] = make_body(p.globe_bearing, {0, 0, p.globe_bearing_z_m}, I);
+  B[4] = make_body(p.connecting_shaft, {0, 0, p.connecting_shaft.com_z_m}, I);
+  // Drive shaft: hangs from O6 along the drive axis (tilted by the cardan misalignment effect).
+  const double beta = p.effects.cardan_misalignment.enabled ? p.effects.cardan_misalignment.angle_rad : 0.0;
+  const Eigen::Matrix3d Rb = Eigen::AngleAxisd(beta, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  drive_axis = Rb * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d o6x(0, 0, p.universal_z_m);
+  const Eigen::Vector3d b6x = o6x - 0.5 * p.drive_shaft_length_m * drive_axis;
+  B[5] = make_body(p.drive_shaft, b6x, Rb);
+  BodyParams cp{1.0, p.vibrator_axis_z_m, {1e-3, 1e-3, 1e-3}};
+  carriage = make_body(cp, {0, 0, p.vibrator_axis_z_m}, I);
+
+  o1 = dJointCreateBall(world, nullptr);
+  dJointAttach(o1, B[1], B[0]);
+  dJointSetBallAnchor(o1, 0, 0, 0);
+
+  o2 = dJointCreateBall(world, nullptr);
+  dJointAttach(o2, B[3], B[1]);
+  dJointSetBallAnchor(o2, 0, 0, p.globe_bearing_z_m);
+
+  o3 = dJointCreatePiston(world, nullptr);
+  dJointAttach(o3, B[2], B[1]);
+  dJointSetPistonAnchor(o3, 0, 0, p.vibrator_axis_z_m);
+  dJointSetPistonAxis(o3, 0, 0, 1);
+
+  o4_slider = dJointCreateSlider(world, nullptr);
+  dJointAttach(o4_slider, B[3], carriage);
+  dJointSetSliderAxis(o4_slider, 1, 0, 0);
+  o4_pr = dJointCreatePR(world, nullptr);
+  dJointAttach(o4_pr, carriage, B[2]);
+  dJointSetPRAnchor(o4_pr, 0, 0, p.vibrator_axis_z_m);
+  dJointSetPRAxis1(o4_pr, 0, 1, 0);  // prismatic (carriage)
+  dJointSetPRAxis2(o4_pr, 0, 0, 1);  // rotoide (vibrator spin)
+  o4_normal_rest = p.globe_bearing_z_m - p.vibrator_axis_z_m;
+
+  o5 = dJointCreatePU(world, nullptr);
+  dJointAttach(o5, B[2], B[4]);
+  dJointSetPUAnchor(o5, 0, 0, p.ball_pin_z_m);
+  dJointSetPUAxisP(o5, 0, 0, 1);
+  dJointSetPUAxis1(o5, 1, 0, 0);
+  dJointSetPUAxis2(o5, 0, 1, 0);
+
+  o6 = dJointCreateUniversal(world, nullptr);
+  dJointAttach(o6, B[4], B[5]);
+  dJointSetUniversalAnchor(o6, o6x[0], o6x[1], o6x[2]);
+  dJointSetUniversalAxis1(o6, 1, 0, 0);
+  const Eigen::Vector3d ax2 = Rb * Eigen::Vector3d::UnitY();
+  dJointSetUniversalAxis2(o6, ax2[0], ax2[1], ax2[2]);
+
+  o7 = dJointCreateHinge(world, nullptr);
+  dJointAttach(o7, B[5], nullptr);
+  dJointSetHingeAnchor(o7, b6x[0], b6x[1], b6x[2]);
+  dJointSetHingeAxis(o7, drive_axis[0], drive_axis[1], drive_axis[2]);
+  dJointSetHingeParam(o7, dParamFMax, p.drive_max_torque_Nm);
+  dJointSetHingeParam(o7, dParamVel, 0.0);
+  dJointSetFeedback(o7, &o7_feedback);
+
+  b1_rest = pos(0);
+  tp_rest = p.test_point_m;
+  tp_local = p.test_point_m - b1_rest;
+  // The absorbers carry the weight of everything resting on the fixed cone at rest; the connecting
+  // shaft hangs from the drive shaft (O6 holds it: the PU slides freely along the vibrator axis).
+  absorber_preload = p.gravity_m_s2 * (p.fixed_cone.mass_kg + p.floating_cone.mass_kg + p.vibrator.mass_kg +
+                                       p.globe_bearing.mass_kg + 1.0);
+  const double R = p.absorber_ring_radius_m;
+  const auto& k = p.absorber_k_N_per_m;
+  const auto& c = p.absorber_c_Ns_per_m;
+  // Absorbers evenly on a ring of radius R: tilt stiffness kz R^2 / 2, twist (kx + ky) / 2 R^2.
+  k_rot = {0.5 * k[2] * R * R, 0.5 * k[2] * R * R, 0.5 * (k[0] + k[1]) * R * R};
+  c_rot = {0.5 * c[2] * R * R, 0.5 * c[2] * R * R, 0.5 * (c[0] + c[1]) * R * R};
+  for (int i = 0; i < kBodyCount; ++i) ext_f[i].setZero(), ext_t[i].setZero();
+  double kin = 0, grav = 0, el = 0;
+  mech_energy_parts(&kin, &grav, &el);
+  audit.kinetic = kin;
+  audit.gravity_potential = grav;
+  audit.elastic_potential = el;
+}
+
+double Mechanism::Impl::mech_energy_parts(double* kin_sum, double* grav_out, double* el_out) const {
+  double ke = 0, grav = 0;
+  auto add = [&](dBodyID b) {
+    dMass m;
+    dBodyGetMass(b, &m);
+    const Eigen::Vector3d v = vec(dBodyGetLinearVel(b)), w = vec(dBodyGetAngularVel(b));
+    const Eigen::Matrix3d R = mat(dBodyGetRotation(b));
+    Eigen::Matrix3d Ib;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Ib(i, j) = m.I[i * 4 + j];
+    const Eigen::Vector3d wb = R.transpose() * w;
+    ke += 0.5 * m.mass * v.squaredNorm() + 0.5 * wb.dot(Ib * wb);
+    grav += m.mass * p.gravity_m_s2 * vec(dBodyGetPosition(b)).z();
+  };
+  for (int i = 0; i < kBodyCount; ++i) add(body[i]);
+  add(carriage);
+  // Absorbers: 1/2 d'K d - preload d_z, rotational 1/2 th'K th; cubic effect 1/4 k3 d^4.
+  const Eigen::Vector3d d = pos(0) - b1_rest;
+  const Eigen::Vector3d th = rotation_vector(rot(0));
+  double el = 0;
+  for (int i = 0; i < 3; ++i) el += 0.5 * p.absorber_k_N_per_m[i] * d[i] * d[i] + 0.5 * k_rot[i] * th[i] * th[i];
+  el -= absorber_preload * d.z();
+  if (p.effects.absorber_nonlinearity.enabled)
+    for (int i = 0; i < 3; ++i) el += 0.25 * p.effects.absorber_nonlinearity.cubic_N_per_m3 * std::pow(d[i], 4);
+  {  // potentials of the cone contact and the bed at the current configuration
+    const RigidKinematics km = kin(1, p.floating_cone.com_z_m), kc = kin(0, p.fixed_cone.com_z_m);
+    const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, p.dt_s);
+    el += cf.contact_potential + cf.bed_potential;
+  }
+  *kin_sum = ke;
+  *grav_out = grav;
+  *el_out = el;
+  return ke + grav + el;
+}
+
+void Mechanism::Impl::apply_and_step() {
+  const double dt = p.dt_s;
+  // ---- velocities before the step (work is booked with the mean of old and new velocities) ----
+  Eigen::Vector3d v0[kBodyCount], w0[kBodyCount];
+  for (int i = 0; i < kBodyCount; ++i) v0[i] = lvel(i), w0[i] = avel(i);
+
+  // Dissipative wrenches per category, per body (about COM).
+  Eigen::Vector3d f_abs = Eigen::Vector3d::Zero(), t_abs = Eigen::Vector3d::Zero();
+  // ---- absorbers (Table 1) at B1's COM ----
+  const Eigen::Vector3d x1 = pos(0), v1 = lvel(0), w1 = avel(0);
+  const Eigen::Vector3d d = x1 - b1_rest;
+  const Eigen::Vector3d th = rotation_vector(rot(0));
+  Eigen::Vector3d f_el = -p.absorber_k_N_per_m.cwiseProduct(d) + Eigen::Vector3d(0, 0, absorber_preload);
+  f_abs = -p.absorber_c_Ns_per_m.cwiseProduct(v1);
+  if (p.effects.absorber_nonlinearity.enabled) {
+    const auto& an = p.effects.absorber_nonlinearity;
+    f_el -= an.cubic_N_per_m3 * d.cwiseProduct(d).cwiseProduct(d);
+    const double wref = std::max(1.0, p.drive_speed_rad_s);
+    f_abs -= an.hysteresis / wref * p.absorber_k_N_per_m.cwiseProduct(v1);
+  }
+  const Eigen::Vector3d t_el = -k_rot.cwiseProduct(th);
+  t_abs = -c_rot.cwiseProduct(w1);
+  dBodyAddForce(body[0], f_el.x() + f_abs.x(), f_el.y() + f_abs.y(), f_el.z() + f_abs.z());
+  dBodyAddTorque(body[0], t_el.x() + t_abs.x(), t_el.y() + t_abs.y(), t_el.z() + t_abs.z());
+
+  // ---- cone contact and material bed ----
+  const RigidKinematics km = kin(1, p.floating_cone.com_z_m), kc = kin(0, p.fixed_cone.com_z_m);
+  const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, dt);
+  auto apply = [&](int i, const Wrench& w) {
+    const Eigen::Vector3d f = w.f_cons + w.f_diss, tq = w.t_cons + w.t_diss;
+    dBodyAddForce(body[i], f.x(), f.y(), f.z());
+    dBodyAddTorque(body[i], tq.x(), tq.y(), tq.z());
+  };
+  apply(1, cf.on_mantle);
+  apply(0, cf.on_concave);
+  min_gap = cf.min_gap;
+  bed_force = cf.bed_normal_force;
+  contact_force = cf.contact_normal_force;
+
+  // ---- joint friction effect: O1 (B2 vs B1) and O3 (vibrator bearing, B3 vs B2 about the axis) ----
+  Eigen::Vector3d t_jf1 = Eigen::Vector3d::Zero(), t_jf3 = Eigen::Vector3d::Zero();
+  if (p.effects.joint_friction.enabled) {
+    const auto& jf = p.effects.joint_friction;
+    auto law = [&](const Eigen::Vector3d& wrel) -> Eigen::Vector3d {
+      const double n = wrel.norm();
+      if (n < 1e-15) return Eigen::Vector3d::Zero();
+      return -(jf.coulomb_Nm * std::tanh(n / jf.regularisation_rad_s) / n + jf.viscous_Nms) * wrel;
+    };
+    t_jf1 = law(avel(1) - avel(0));
+    const Eigen::Vector3d ax = rot(1).col(2);
+    t_jf3 = law(ax * ax.dot(avel(2) - avel(1)));
+    dBodyAddTorque(body[1], t_jf1.x() - t_jf3.x(), t_jf1.y() - t_jf3.y(), t_jf1.z() - t_jf3.z());
+    dBodyAddTorque(body[0], -t_jf1.x(), -t_jf1.y(), -t_jf1.z());
+    dBodyAddTorque(body[2], t_jf3.x(), t_jf3.y(), t_jf3.z());
+  }
+
+  // ---- external (particle) wrenches ----
+  for (int i = 0; i < kBodyCount; ++i) {
+    dBodyAddForce(body[i], ext_f[i].x(), ext_f[i].y(), ext_f[i].z());
+    dBodyAddTorque(body[i], ext_t[i].x(), ext_t[i].y(), ext_t[i].z());
+  }
+
+  // ---- drive: ramp to the set speed, optional droop with the last torque ----
+  const double ramp = p.drive_ramp_s > 0 ? std::min(1.0, (t + dt) / p.drive_ramp_s) : 1.0;
+  const double smooth = ramp * ramp * (3.0 - 2.0 * ramp);
+  double w_cmd = p.drive_speed_rad_s * smooth;
+  if (p.effects.motor_droop.enabled) w_cmd -= p.effects.motor_droop.droop_rad_s_per_Nm * torque;
+  dJointSetHingeParam(o7, dParamVel, w_cmd);
+
+  dWorldStep(world, dt);
+  t += dt;
+  ++steps;
+
+  // ---- bookkeeping ----
+  Eigen::Vector3d vm[kBodyCount], wm[kBodyCount];
+  for (int i = 0; i < kBodyCount; ++i) vm[i] = 0.5 * (v0[i] + lvel(i)), wm[i] = 0.5 * (w0[i] + avel(i));
+  torque = vec(o7_feedback.t1).dot(drive_axis);
+  audit.drive_work += torque * wm[5].dot(drive_axis) * dt;
+  audit.absorber_dissipation -= (f_abs.dot(vm[0]) + t_abs.dot(wm[0])) * dt;
+  auto diss = [&](int i, const Wrench& w) { return -(w.f_diss.dot(vm[i]) + w.t_diss.dot(wm[i])) * dt; };
+  audit.contact_dissipation += diss(1, cf.contact_on_mantle) + diss(0, cf.contact_on_concave);
+  audit.bed_dissipation += diss(1, cf.bed_on_mantle) + diss(0, cf.bed_on_concave);
+  audit.joint_friction_dissipation -=
+      (t_jf1.dot(wm[1] - wm[0]) + t_jf3.dot(wm[2] - wm[1])) * dt;
+  for (int i = 0; i < kBodyCount; ++i) audit.external_work += (ext_f[i].dot(vm[i]) + ext_t[i].dot(wm[i])) * dt;
+  // Test point kinematics
+  const Eigen::Matrix3d R1 = rot(0);
+  const Eigen::Vector3d tv = lvel(0) + avel(0).cross(R1 * tp_local);
+  tp_acc = (tv - tp_vel_prev) / dt;
+  tp_vel_prev = tv;
+  for (int i = 0; i < kBodyCount; ++i) {
+    const Eigen::Vector3d x = pos(i);
+    if (!x.allFinite() || x.norm() > 100.0) {
+      std::ostringstream s;
+      s << "mbd: numerical blow-up at step " << steps << " (t = " << t << " s): body " << body_name(BodyId(i))
+        << " at [" << x.transpose() << "] m; state dump: drive torque " << torque << " N m, min gap "
+        << min_gap * 1e3 << " mm, bed force " << bed_force << " N, contact force " << contact_force
+        << " N. Reduce mbd.time_step_s or check the bed/contact parameters.";
+      throw std::runtime_error(s.str());
+    }
+  }
+}
+
+double Mechanism::Impl::constraint_error() const {
+  double e = 0;
+  auto pt = [&](void (*f1)(dJointID, dVector3), void (*f2)(dJointID, dVector3), dJointID j) {
+    dVector3 a, b;
+    f1(j, a);
+    f2(j, b);
+    e = std::max(e, (vec(a) - vec(b)).norm());
+  };
+  pt(dJointGetBallAnchor, dJointGetBallAnchor2, o1);
+  pt(dJointGetBallAnchor, dJointGetBallAnchor2, o2);
+  pt(dJointGetUniversalAnchor, dJointGetUniversalAnchor2, o6);
+  pt(dJointGetHingeAnchor, dJointGetHingeAnchor2, o7);
+  {
+    dVector3 a1, a2;
+    dJointGetUniversalAxis1(o6, a1);
+    dJointGetUniversalAxis2(o6, a2);
+    e = std::max(e, std::abs(vec(a1).dot(vec(a2))));
+  }
+  const Eigen::Matrix3d R2 = rot(1), R3 = rot(2), R4 = rot(3), R5 = rot(4), R6 = rot(5);
+  const Eigen::Vector3d z2 = R2.col(2), z3 = R3.col(2), z4 = R4.col(2);
+  // O3 cylindrical: axes parallel, vibrator axis point on the floating-cone axis line.
+  const Eigen::Vector3d a3 = pos(2) + R3 * Eigen::Vector3d(-ecc, 0, 0);
+  const Eigen::Vector3d r = a3 - pos(1);
+  e = std::max(e, z2.cross(z3).norm());
+  e = std::max(e, (r - r.dot(z2) * z2).norm());
+  // O4 planar: B4 and B3 axes parallel, normal distance constant.
+  e = std::max(e, z4.cross(z3).norm());
+  e = std::max(e, std::abs((pos(3) - a3).dot(z3) - o4_normal_rest));
+  // O5 ball-pin: pin point of B5 on the vibrator axis; B5's y axis perpendicular to B3's x axis.
+  const Eigen::Vector3d pin = pos(4) + R5 * Eigen::Vector3d(0, 0, p.ball_pin_z_m - p.connecting_shaft.com_z_m);
+  const Eigen::Vector3d rp = pin - a3;
+  e = std::max(e, (rp - rp.dot(z3) * z3).norm());
+  e = std::max(e, std::abs(R3.col(0).dot(R5.col(1))));
+  // O7: drive shaft axis along the hinge axis.
+  e = std::max(e, R6.col(2).cross(drive_axis).norm());
+  return e;
+}
+
+Mechanism::Mechanism(const MechanismParams& params, LoadModel load) : impl_(new Impl(params, load)) {
+  validate(params);
+  impl_->build();
+}
+Mechanism::~Mechanism() = default;
+
+void Mechanism::step() { impl_->apply_and_step(); }
+void Mechanism::advance(double s) {
+  const long n = std::lround(s / impl_->p.dt_s);
+  for (long i = 0; i < n; ++i) impl_->apply_and_step();
+}
+double Mechanism::time() const { return impl_->t; }
+double Mechanism::dt() const { return impl_->p.dt_s; }
+const MechanismParams& Mechanism::params() const { return impl_->p; }
+
+BodyState Mechanism::body(BodyId id) const {
+  const int i = static_cast<int>(id);
+  BodyState s;
+  s.position = impl_->pos(i);
+  const dReal* q = dBodyGetQuaternion(impl_->body[i]);
+  s.orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  s.linear_velocity = impl_->lvel(i);
+  s.angular_velocity = impl_->avel(i);
+  return s;
+}
+
+TestPointState Mechanism::test_point() const {
+  TestPointState s;
+  const Eigen::Matrix3d R1 = impl_->rot(0);
+  const Eigen::Vector3d arm = R1 * impl_->tp_local;
+  s.displacement = impl_->pos(0) + arm - impl_->tp_rest;
+  s.velocity = impl_->lvel(0) + impl_->avel(0).cross(arm);
+  s.acceleration = impl_->tp_acc;
+  return s;
+}
+
+DriveState Mechanism::drive() const {
+  DriveState d;
+  d.speed = dJointGetHingeAngleRate(impl_->o7);
+  d.torque = impl_->torque;
+  d.power = d.torque * d.speed;
+  return d;
+}
+
+double Mechanism::nutation_angle() const {
+  const Eigen::Vector3d z1 = impl_->rot(0).col(2), z2 = impl_->rot(1).col(2);
+  return std::atan2(z1.cross(z2).norm(), z1.dot(z2));
+}
+
+double Mechanism::mantle_spin() const {
+  const Eigen::Vector3d z2 = impl_->rot(1).col(2);
+  return z2.dot(impl_->avel(1) - impl_->avel(0));
+}
+
+double Mechanism::min_gap() const { return impl_->min_gap; }
+double Mechanism::constraint_error() const { return impl_->constraint_error(); }
+double Mechanism::bed_force() const { return impl_->bed_force; }
+double Mechanism::contact_force() const { return impl_->contact_force; }
+
+void Mechanism::set_particle_wrench(BodyId id, const Eigen::Vector3d& force, const Eigen::Vector3d& torque) {
+  if (!force.allFinite() || !torque.allFinite())
+    throw std::invalid_argument(std::string("mbd: particle wrench on ") + body_name(id) + " is not finite");
+  impl_->ext_f[static_cast<int>(id)] = force;
+  impl_->ext_t[static_cast<int>(id)] = torque;
+}
+
+void Mechanism::set_load_model(LoadModel load) { impl_->load = load; }
+
+EnergyAudit Mechanism::energy() const {
+  EnergyAudit a = impl_->audit;
+  impl_->mech_energy_parts(&a.kinetic, &a.gravity_potential, &a.elastic_potential);
+  return a;
+}
+
+}  // namespace mbd

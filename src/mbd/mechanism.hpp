@@ -1,0 +1,104 @@
+#pragma once
+// The inertia cone crusher mechanism (paper section 2, Figure 2) on ODE (double precision, dWorldStep).
+//
+// Bodies: B1 fixed cone (6 DOF on the rubber absorbers), B2 floating cone, B3 eccentric vibrator,
+// B4 globe bearing, B5 connecting shaft, B6 drive shaft. Joint mapping to ODE:
+//   O1 spherical B2-B1            dJointBall
+//   O2 spherical B4-B2            dJointBall
+//   O3 cylindrical B3-B2          dJointPiston (axis = floating-cone axis)
+//   O4 planar B3-B4 (normal = axis; frees the two in-plane translations and the spin)
+//                                 composed: dJointSlider B4->C along x, dJointPR C->B3 (prismatic along y,
+//                                 rotoide about the axis); C is a 1 kg carriage body (3 + 3 constraints
+//                                 of the two joints minus C's 6 DOF = the planar joint's 3 constraints)
+//   O5 ball-pin B3-B5 (fixes x, y translation and Rz)   dJointPU (prismatic along the vibrator axis,
+//                                 universal with axes x of B3 and y of B5: transmits the torque about z)
+//   O6 universal B5-B6            dJointUniversal
+//   O7 revolute B6-ground         dJointHinge with a velocity motor (dParamVel, dParamFMax) and
+//                                 dJointFeedback: drive torque = feedback torque on B6 along the axis.
+// Forces computed by our code and applied with dBodyAddForce: absorbers (linear 6-DOF spring-damper at
+// B1's COM), the cone contact (Eq. 11, 13-15) at the closest approach of mantle and concave, the
+// equivalent material bed (bed_model.hpp), external particle wrenches, and the enabled effects.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <memory>
+#include <string>
+
+#include "mbd/mechanism_params.hpp"
+
+namespace mbd {
+
+enum class BodyId { FixedCone, FloatingCone, Vibrator, GlobeBearing, ConnectingShaft, DriveShaft };
+constexpr int kBodyCount = 6;
+const char* body_name(BodyId id);  // "fixed_cone", ...
+
+struct BodyState {
+  Eigen::Vector3d position;  // centre of mass, world
+  Eigen::Quaterniond orientation;
+  Eigen::Vector3d linear_velocity, angular_velocity;  // world
+};
+
+// Test point on the fixed cone: displacement from its rest (equilibrium) position, velocity and
+// acceleration, world frame.
+struct TestPointState {
+  Eigen::Vector3d displacement, velocity, acceleration;
+};
+
+struct DriveState {
+  double speed;   // rad/s, drive shaft about its axis
+  double torque;  // N m, applied by the motor to the drive shaft
+  double power;   // W = torque x speed
+};
+
+// Cumulative energy audit since construction (J) and the current mechanical energy.
+struct EnergyAudit {
+  double drive_work = 0;             // integral of drive torque x speed
+  double absorber_dissipation = 0;   // absorber dampers (+ hysteresis effect)
+  double contact_dissipation = 0;    // Eq. 11 damping + Eq. 13-15 friction
+  double bed_dissipation = 0;        // bed viscosity + bed friction
+  double joint_friction_dissipation = 0;
+  double external_work = 0;          // work of set_particle_wrench loads
+  double kinetic = 0, gravity_potential = 0, elastic_potential = 0;  // current
+  double mechanical_energy() const { return kinetic + gravity_potential + elastic_potential; }
+  double dissipation() const {
+    return absorber_dissipation + contact_dissipation + bed_dissipation + joint_friction_dissipation;
+  }
+};
+
+enum class LoadModel { None, Bed };
+
+class Mechanism {
+ public:
+  explicit Mechanism(const MechanismParams& params, LoadModel load = LoadModel::Bed);
+  ~Mechanism();
+  Mechanism(const Mechanism&) = delete;
+  Mechanism& operator=(const Mechanism&) = delete;
+
+  void step();              // one time step dt
+  void advance(double s);   // whole steps covering s seconds
+  double time() const;
+  double dt() const;
+  const MechanismParams& params() const;
+
+  BodyState body(BodyId id) const;
+  TestPointState test_point() const;
+  DriveState drive() const;
+  double nutation_angle() const;  // rad, angle between the floating-cone axis and the fixed-cone axis
+  double mantle_spin() const;     // rad/s, floating cone about its own axis relative to the fixed cone
+  double min_gap() const;         // m, closest approach of mantle and concave (negative = indentation)
+  double constraint_error() const;  // m: max joint anchor mismatch (angles x 1 m), see mechanism.cpp
+  double bed_force() const;       // N, total normal force of the bed on the mantle (last step)
+  double contact_force() const;   // N, normal force of the cone contact (last step)
+
+  // External (particle) wrench on a body, about its centre of mass, world frame. Held until changed.
+  void set_particle_wrench(BodyId id, const Eigen::Vector3d& force, const Eigen::Vector3d& torque_about_com);
+  void set_load_model(LoadModel load);
+
+  EnergyAudit energy() const;  // cumulative works + current energy
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace mbd

@@ -1,0 +1,47 @@
+#include "mbd/simulate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "mbd/mechanism.hpp"
+
+namespace mbd {
+
+Recording simulate(const MechanismParams& params, const SimOptions& o) {
+  if (!(o.duration_s > 0)) throw std::invalid_argument("mbd::simulate: duration_s must be > 0");
+  if (!(o.settle_s >= 0)) throw std::invalid_argument("mbd::simulate: settle_s must be >= 0");
+  if (!(o.sample_hz > 0)) throw std::invalid_argument("mbd::simulate: sample_hz must be > 0");
+  LoadModel load;
+  if (o.load == "bed") load = LoadModel::Bed;
+  else if (o.load == "none") load = LoadModel::None;
+  else throw std::invalid_argument("mbd::simulate: load '" + o.load + "' is not accepted; accepted: none, bed");
+
+  Mechanism m(params, load);
+  const double dt = params.dt_s;
+  const long settle_steps = std::lround(o.settle_s / dt);
+  for (long i = 0; i < settle_steps; ++i) m.step();
+  const long every = std::max(1L, std::lround(1.0 / (o.sample_hz * dt)));
+  const long steps = std::lround(o.duration_s / dt);
+  Recording r;
+  const std::size_t n = static_cast<std::size_t>(steps / every + 1);
+  for (auto* v : {&r.t_s, &r.x_m, &r.y_m, &r.z_m, &r.power_W, &r.speed_rad_s}) v->reserve(n);
+  const double t0 = m.time();
+  auto sample = [&] {
+    const auto tp = m.test_point();
+    const auto d = m.drive();
+    r.t_s.push_back(m.time() - t0);
+    r.x_m.push_back(tp.displacement.x());
+    r.y_m.push_back(tp.displacement.y());
+    r.z_m.push_back(tp.displacement.z());
+    r.power_W.push_back(d.power);
+    r.speed_rad_s.push_back(d.speed);
+  };
+  sample();
+  for (long i = 1; i <= steps; ++i) {
+    m.step();
+    if (i % every == 0) sample();
+  }
+  return r;
+}
+
+}  // namespace mbd
