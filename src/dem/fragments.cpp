@@ -175,6 +175,12 @@ bool Fragments::break_bond(uint64_t a, uint64_t b) {
   return true;
 }
 
+int Fragments::apply_breaks(const std::vector<BondBreak>& breaks) {
+  int splits = 0;
+  for (const auto& b : breaks) splits += break_bond(b.id_i, b.id_j) ? 1 : 0;
+  return splits;
+}
+
 void Fragments::add_particle(uint64_t id) {
   if (node_.count(id))
     throw std::invalid_argument("Fragments::add_particle: particle id " + std::to_string(id) + " already tracked");

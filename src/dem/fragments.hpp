@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "dem/bonds.hpp"
 #include "dem/particles.hpp"
 
 namespace dem {
@@ -47,6 +48,9 @@ class Fragments {
   // Break event: removes the bond (a, b). Returns true when it split a fragment in two.
   // Throws std::invalid_argument if no such intact bond exists.
   bool break_bond(uint64_t a, uint64_t b);
+  // Applies World's break log (BondBreak::id_i, id_j); returns the number of splits. Breaks of bonds
+  // this tracker does not hold (already applied) are an error (std::invalid_argument).
+  int apply_breaks(const std::vector<BondBreak>& breaks);
   // Adds a new particle as its own fragment (e.g. fed later). Throws on a duplicate id.
   void add_particle(uint64_t id);
   // Removes a particle (e.g. discharged) and its bonds; its fragment may split.

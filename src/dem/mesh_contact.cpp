@@ -107,7 +107,10 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
         cand.push_back({*it, cp.feature, cp.index, cp.point, std::sqrt(d2)});
       }
       if (cand.empty()) continue;
-      // Keep a feature contact only if it is the closest point of every triangle sharing it.
+      // Keep an edge/vertex contact only if it is the closest point of every triangle sharing the
+      // feature: a triangle containing the point but reporting another one has a strictly closer
+      // point, so this contact is a shadow of that one. Points are compared (first order in the
+      // offset), not distances (second order).
       const double tol = 1e-9 * r;
       kept.clear();
       for (int k = 0; k < static_cast<int>(cand.size()); ++k) {
@@ -118,7 +121,7 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
           const int other = e.tri0 == ck.tri ? e.tri1 : e.tri0;
           if (other >= 0) {
             const Candidate* co = find_tri(cand, other);
-            if (co && co->d < ck.d - tol) valid = false;
+            if (co && (co->q - ck.q).squaredNorm() > tol * tol) valid = false;
           }
         } else if (ck.feature == TriFeature::Vertex) {
           const int v = mesh_.triangle(ck.tri)[ck.local];
@@ -126,7 +129,7 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
           for (const int* t2 = b; t2 != e && valid; ++t2) {
             if (*t2 == ck.tri) continue;
             const Candidate* co = find_tri(cand, *t2);
-            if (co && co->d < ck.d - tol) valid = false;
+            if (co && (co->q - ck.q).squaredNorm() > tol * tol) valid = false;
           }
         }
         if (!valid) continue;
