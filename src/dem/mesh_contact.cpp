@@ -65,14 +65,15 @@ MeshWrench MeshContact::wrench_about(const Eigen::Vector3d& point) const {
 
 void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   const long n = static_cast<long>(p.size());
+  const int nthreads = threads_ > 0 ? threads_ : omp_get_max_threads();
   // Grid margin must cover the largest particle.
   double rmax = 0.0;
-#pragma omp parallel for reduction(max : rmax) schedule(static)
+#pragma omp parallel for reduction(max : rmax) schedule(static) num_threads(nthreads)
   for (long i = 0; i < n; ++i) rmax = std::max(rmax, p.r[i]);
   if (n > 0 && (grid_.empty() || rmax > grid_.margin())) grid_ = TriangleGrid(mesh_, 1.05 * rmax);
 
-  const int nthreads = omp_get_max_threads();
   if (static_cast<int>(per_thread_.size()) < nthreads) per_thread_.resize(nthreads);
+  for (auto& buf : per_thread_) buf.clear();
   std::atomic<int> bad_material{-1};
   const Eigen::Matrix3d R = mesh_.rotation();
   const Eigen::Matrix3d Rt = R.transpose();
@@ -80,11 +81,10 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   const Eigen::Vector3d omega = mesh_.twist().angular;
   const std::vector<Old>& old = old_;
 
-#pragma omp parallel
+#pragma omp parallel num_threads(nthreads)
   {
     const int tid = omp_get_thread_num();
     std::vector<MeshContactRecord>& out = per_thread_[tid];
-    out.clear();
     std::vector<Candidate> cand;
     std::vector<int> kept;
     std::vector<char> claimed;

@@ -71,6 +71,9 @@ class MeshContact : public Interaction {
   void set_regions(RegionMap regions);
   const RegionMap* regions() const { return regions_ ? &*regions_ : nullptr; }
 
+  // OpenMP threads (0: omp_get_max_threads()); results do not depend on it.
+  void set_threads(int n) { threads_ = n < 0 ? 0 : n; }
+
   void add_forces(Particles& p, double t, double dt) override;
 
   // Results of the last add_forces().
@@ -97,6 +100,7 @@ class MeshContact : public Interaction {
   TriMesh mesh_;
   MaterialTable materials_;
   int wall_material_;
+  int threads_ = 0;
   std::vector<TriData> tri_;
   TriangleGrid grid_;
   std::optional<RegionMap> regions_;
