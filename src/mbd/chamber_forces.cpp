@@ -18,7 +18,30 @@ double effective_mass(const RigidKinematics& a, const Eigen::Vector3d& ra, const
   const double inv = a.inv_mass + ca.dot(a.inv_inertia_world * ca) + b.inv_mass + cb.dot(b.inv_inertia_world * cb);
   return inv > 0 ? 1.0 / inv : 0.0;
 }
+double power(double x, double e) {
+  if (e == 1.5) return x * std::sqrt(x);
+  if (e == 2.0) return x * x;
+  if (e == 1.0) return x;
+  return std::pow(x, e);
+}
 }  // namespace
+
+double ChamberForces::segment_gap(double z, double r, Eigen::Vector2d* nzr) const {
+  // core::signed_distance_inside with precomputed segments (hot loop); inside/outside from the side
+  // of the closest segment's outward normal.
+  double best = std::numeric_limits<double>::infinity(), side = 0;
+  int ib = 0;
+  for (std::size_t i = 0; i < segs_.size(); ++i) {
+    const Seg& s = segs_[i];
+    const double t = std::clamp(((z - s.az) * s.dz + (r - s.ar) * s.dr) * s.inv_len2, 0.0, 1.0);
+    const double ez = s.az + t * s.dz - z, er = s.ar + t * s.dr - r;
+    const double d2 = ez * ez + er * er;
+    if (d2 < best) best = d2, ib = static_cast<int>(i), side = ez * s.nz + er * s.nr;
+  }
+  if (nzr) *nzr = Eigen::Vector2d(segs_[ib].nz, segs_[ib].nr);
+  const double d = std::sqrt(best);
+  return side >= 0 ? d : -d;
+}
 
 ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
   const auto& m = p.chamber.mantle;
@@ -40,6 +63,28 @@ ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
   }
   contact_z_ = m.z;
   contact_r_ = m.r;
+  const auto& c = p.chamber.concave;
+  for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+    Seg sg;
+    sg.az = c.z[i];
+    sg.ar = c.r[i];
+    sg.dz = c.z[i + 1] - c.z[i];
+    sg.dr = c.r[i + 1] - c.r[i];
+    sg.inv_len2 = 1.0 / (sg.dz * sg.dz + sg.dr * sg.dr);
+    Eigen::Vector2d n(-sg.dr, sg.dz);
+    if (n.y() < 0) n = -n;
+    n.normalize();
+    sg.nz = n.x();
+    sg.nr = n.y();
+    segs_.push_back(sg);
+  }
+  for (int k = 0; k < na; ++k) cos_.push_back(std::cos(2.0 * kPi * k / na)), sin_.push_back(std::sin(2.0 * kPi * k / na));
+  contact_rest_gap_ = std::numeric_limits<double>::infinity();
+  contact_reach_ = 0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    contact_rest_gap_ = std::min(contact_rest_gap_, core::signed_distance_inside(c, Eigen::Vector2d(m.z[i], m.r[i]), nullptr));
+    contact_reach_ = std::max(contact_reach_, std::hypot(m.z[i], m.r[i]));
+  }
 }
 
 double ChamberForces::gap(const RigidKinematics& mantle, const RigidKinematics& concave,
@@ -62,67 +107,93 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
                                           double dt) const {
   ChamberForceResult out;
   out.min_gap = std::numeric_limits<double>::infinity();
+  // Mantle liner frame -> concave liner frame: q = A l + b.
+  const Eigen::Matrix3d A = C.R.transpose() * M.R;
+  const Eigen::Vector3d b = C.R.transpose() * (M.x + M.R * M.liner_origin - C.x) - C.liner_origin;
+  auto fast_gap = [&](const Eigen::Vector3d& l, Eigen::Vector3d* q_out, Eigen::Vector2d* nzr) {
+    const Eigen::Vector3d q = A * l + b;
+    if (q_out) *q_out = q;
+    const double rc = std::sqrt(q.x() * q.x() + q.y() * q.y());
+    return segment_gap(q.z(), rc, nzr);
+  };
+  auto world_of = [&](const Eigen::Vector3d& q, const Eigen::Vector2d& nzr, Eigen::Vector3d* P, Eigen::Vector3d* n) {
+    *P = C.x + C.R * (q + C.liner_origin);
+    const double rc = std::sqrt(q.x() * q.x() + q.y() * q.y());
+    const double cx = rc > 1e-12 ? q.x() / rc : 1.0, cy = rc > 1e-12 ? q.y() / rc : 0.0;
+    *n = C.R * Eigen::Vector3d(nzr.y() * cx, nzr.y() * cy, nzr.x());
+  };
 
   // ---- Cone contact at the closest approach (Eq. 11, 13-15) ----
+  // Any mantle point l moves (relative to the concave, from the untilted rest) by at most
+  // |A - I| |l| + |b|; where that is below the rest gap of the profile vertices the cones cannot touch.
+  const double rot_bound = (A - Eigen::Matrix3d::Identity()).norm();  // Frobenius >= spectral norm
+  const double disp_bound = rot_bound * contact_reach_ + b.norm();
+  out.min_gap = contact_rest_gap_ - disp_bound;  // lower bound, refined below when the cones may touch
   const int na = p_.sampling.azimuth;
-  for (std::size_t iv = 0; iv < contact_z_.size(); ++iv) {
-    const double z = contact_z_[iv], r = contact_r_[iv];
-    auto local_at = [&](double phi) { return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z); };
-    int kbest = 0;
-    double gbest = std::numeric_limits<double>::infinity();
-    auto& gs = gs_;
-    gs.resize(na);
-    for (int k = 0; k < na; ++k) {
-      gs[k] = gap(M, C, local_at(2.0 * kPi * k / na), nullptr, nullptr);
-      if (gs[k] < gbest) gbest = gs[k], kbest = k;
-    }
-    // Parabola through the best sample and its neighbours: refined closest azimuth.
-    const double gm = gs[(kbest + na - 1) % na], g0 = gs[kbest], gp = gs[(kbest + 1) % na];
-    const double den = gm - 2.0 * g0 + gp;
-    double off = den > 1e-15 ? 0.5 * (gm - gp) / den : 0.0;
-    off = std::clamp(off, -0.5, 0.5);
-    const double phi = 2.0 * kPi * (kbest + off) / na;
-    Eigen::Vector3d P, n;
-    const double g = gap(M, C, local_at(phi), &P, &n);
-    const double gmin = std::min(g, g0);
-    out.min_gap = std::min(out.min_gap, gmin);
-    if (g < 0.0) {
-      const Eigen::Vector3d r2 = P - M.x, r1 = P - C.x;
-      const Eigen::Vector3d v2 = M.v + M.w.cross(r2), v1 = C.v + C.w.cross(r1);
-      const Eigen::Vector3d vrel = v2 - v1;   // mantle w.r.t. concave
-      const double d = -g, d_dot = vrel.dot(n);  // indentation grows when the mantle moves outward
-      const auto& cp = p_.contact;
-      const double fel = cp.k * std::pow(d, cp.h1);
-      const double fn = normal_force_eq11(cp, d, d_dot);
-      const Eigen::Vector3d vt = vrel - vrel.dot(n) * n;
-      const double vtn = vt.norm();
-      Eigen::Vector3d ft = Eigen::Vector3d::Zero();
-      if (vtn > 1e-12) {
-        const Eigen::Vector3d t = vt / vtn;
-        double mag = friction_coefficient_eq14(vtn, cp.mu_s, cp.mu_d, cp.v_s, cp.v_d) * fn;  // <= 0
-        const double cap = effective_mass(M, r2, C, r1, t) * vtn / dt;  // stick: stop within one step
-        mag = std::max(mag, -cap);
-        ft = mag * t;
+  if (disp_bound >= contact_rest_gap_) {
+    out.min_gap = std::numeric_limits<double>::infinity();
+    for (std::size_t iv = 0; iv < contact_z_.size(); ++iv) {
+      const double z = contact_z_[iv], r = contact_r_[iv];
+      auto local_at = [&](double phi) { return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z); };
+      int kbest = 0;
+      double gbest = std::numeric_limits<double>::infinity();
+      auto& gs = gs_;
+      gs.resize(na);
+      for (int k = 0; k < na; ++k) {
+        gs[k] = fast_gap(Eigen::Vector3d(r * cos_[k], r * sin_[k], z), nullptr, nullptr);
+        if (gs[k] < gbest) gbest = gs[k], kbest = k;
       }
-      // Normal force pushes the mantle toward the axis (-n); elastic part conservative.
-      const Eigen::Vector3d f_el = -fel * n;
-      const Eigen::Vector3d f_d = -(fn - fel) * n + ft;  // Eq. 11 damping (and the clip at 0) + friction
-      out.contact_on_mantle.add(r2, f_el, f_d);
-      out.contact_on_concave.add(r1, -f_el, -f_d);
-      out.contact_normal_force += fn;
-      out.contact_potential += cp.k * std::pow(d, cp.h1 + 1.0) / (cp.h1 + 1.0);
+      // Parabola through the best sample and its neighbours: refined closest azimuth.
+      const double gm = gs[(kbest + na - 1) % na], g0 = gs[kbest], gp = gs[(kbest + 1) % na];
+      const double den = gm - 2.0 * g0 + gp;
+      double off = den > 1e-15 ? 0.5 * (gm - gp) / den : 0.0;
+      off = std::clamp(off, -0.5, 0.5);
+      const double phi = 2.0 * kPi * (kbest + off) / na;
+      Eigen::Vector3d q, P, n;
+      Eigen::Vector2d nzr;
+      const double g = fast_gap(local_at(phi), &q, &nzr);
+      out.min_gap = std::min(out.min_gap, std::min(g, g0));
+      if (g < 0.0) {
+        world_of(q, nzr, &P, &n);
+        const Eigen::Vector3d r2 = P - M.x, r1 = P - C.x;
+        const Eigen::Vector3d v2 = M.v + M.w.cross(r2), v1 = C.v + C.w.cross(r1);
+        const Eigen::Vector3d vrel = v2 - v1;   // mantle w.r.t. concave
+        const double d = -g, d_dot = vrel.dot(n);  // indentation grows when the mantle moves outward
+        const auto& cp = p_.contact;
+        const double fel = cp.k * std::pow(d, cp.h1);
+        const double fn = normal_force_eq11(cp, d, d_dot);
+        const Eigen::Vector3d vt = vrel - vrel.dot(n) * n;
+        const double vtn = vt.norm();
+        Eigen::Vector3d ft = Eigen::Vector3d::Zero();
+        if (vtn > 1e-12) {
+          const Eigen::Vector3d t = vt / vtn;
+          double mag = friction_coefficient_eq14(vtn, cp.mu_s, cp.mu_d, cp.v_s, cp.v_d) * fn;  // <= 0
+          const double cap = effective_mass(M, r2, C, r1, t) * vtn / dt;  // stick: stop within one step
+          mag = std::max(mag, -cap);
+          ft = mag * t;
+        }
+        // Normal force pushes the mantle toward the axis (-n); the elastic part is conservative.
+        const Eigen::Vector3d f_el = -fel * n;
+        const Eigen::Vector3d f_d = -(fn - fel) * n + ft;  // Eq. 11 damping (and the clip at 0) + friction
+        out.contact_on_mantle.add(r2, f_el, f_d);
+        out.contact_on_concave.add(r1, -f_el, -f_d);
+        out.contact_normal_force += fn;
+        out.contact_potential += cp.k * std::pow(d, cp.h1 + 1.0) / (cp.h1 + 1.0);
+      }
     }
   }
 
   // ---- Equivalent material bed ----
   if (bed) {
-    const auto& b = p_.bed;
+    const auto& bp = p_.bed;
     auto& hits = hits_;
     hits.clear();
     for (const auto& s : bed_samples_) {
-      Eigen::Vector3d P, n;
-      const double g = gap(M, C, s.local, &P, &n);
+      Eigen::Vector3d q, P, n;
+      Eigen::Vector2d nzr;
+      const double g = fast_gap(s.local, &q, &nzr);
       if (g >= s.g_ref) continue;
+      world_of(q, nzr, &P, &n);
       const Eigen::Vector3d v2 = M.v + M.w.cross(P - M.x), v1 = C.v + C.w.cross(P - C.x);
       const double g_dot = (v1 - v2).dot(n);
       hits.push_back({P, n, 1.0 - std::max(g, 0.0) / s.g_ref, -g_dot / s.g_ref, &s});
@@ -131,17 +202,17 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
     for (int i = 0; i < active; ++i) {
       const Hit& h = hits[i];
       const double A = h.s->area;
-      const double p_el = b.modulus_Pa * std::pow(h.e, b.exponent);
-      const double p_v = h.e_dot > 0 ? b.viscosity_Pa_s * h.e_dot : 0.0;  // crushing: closing only
+      const double p_el = bp.modulus_Pa * power(h.e, bp.exponent);
+      const double p_v = h.e_dot > 0 ? bp.viscosity_Pa_s * h.e_dot : 0.0;  // crushing: closing only
       const double fn_el = A * p_el, fn_v = A * p_v;
       const Eigen::Vector3d r2 = h.P - M.x, r1 = h.P - C.x;
       const Eigen::Vector3d vrel = (M.v + M.w.cross(r2)) - (C.v + C.w.cross(r1));
       const Eigen::Vector3d vt = vrel - vrel.dot(h.n) * h.n;
       const double vtn = vt.norm();
       Eigen::Vector3d ft = Eigen::Vector3d::Zero();
-      if (vtn > 1e-12 && b.friction > 0) {
+      if (vtn > 1e-12 && bp.friction > 0) {
         const Eigen::Vector3d t = vt / vtn;
-        double mag = friction_coefficient_eq14(vtn, b.friction, b.friction, b.v_s, b.v_d) * (fn_el + fn_v);
+        double mag = friction_coefficient_eq14(vtn, bp.friction, bp.friction, bp.v_s, bp.v_d) * (fn_el + fn_v);
         const double cap = effective_mass(M, r2, C, r1, t) * vtn / dt / active;
         mag = std::max(mag, -cap);
         ft = mag * t;
@@ -150,7 +221,7 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
       out.bed_on_mantle.add(r2, f_el, f_d);
       out.bed_on_concave.add(r1, -f_el, -f_d);
       out.bed_normal_force += fn_el + fn_v;
-      out.bed_potential += A * h.s->g_ref * b.modulus_Pa * std::pow(h.e, b.exponent + 1.0) / (b.exponent + 1.0);
+      out.bed_potential += A * h.s->g_ref * bp.modulus_Pa * std::pow(h.e, bp.exponent + 1.0) / (bp.exponent + 1.0);
     }
   }
   auto sum = [](const Wrench& a, const Wrench& b) {

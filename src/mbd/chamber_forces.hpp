@@ -70,6 +70,13 @@ class ChamberForces {
     double e, e_dot;
     const Sample* s;
   };
+  struct Seg {
+    double az, ar, dz, dr, inv_len2, nz, nr;
+  };
+  double segment_gap(double z, double r, Eigen::Vector2d* nzr) const;
+  std::vector<Seg> segs_;
+  std::vector<double> cos_, sin_;
+  double contact_rest_gap_ = 0, contact_reach_ = 0;
   MechanismParams p_;
   mutable std::vector<Hit> hits_;  // scratch (no allocation in the step after the first)
   mutable std::vector<double> gs_;

@@ -6,10 +6,11 @@
 //   O1 spherical B2-B1            dJointBall
 //   O2 spherical B4-B2            dJointBall
 //   O3 cylindrical B3-B2          dJointPiston (axis = floating-cone axis)
-//   O4 planar B3-B4 (normal = axis; frees the two in-plane translations and the spin)
-//                                 composed: dJointSlider B4->C along x, dJointPR C->B3 (prismatic along y,
-//                                 rotoide about the axis); C is a 1 kg carriage body (3 + 3 constraints
-//                                 of the two joints minus C's 6 DOF = the planar joint's 3 constraints)
+//   O4 planar B3-B4 (normal = axis; frees the two in-plane translations and the spin): 3 rows written
+//                                 as dJointDBall (distance between the O2 centre and the vibrator axis
+//                                 point: the normal distance, since both stay on the shaft axis) plus a
+//                                 user-mode dJointAMotor with 2 rows about B3's x, y axes (relative
+//                                 angular velocity zero, misalignment fed back with the joints ERP each step)
 //   O5 ball-pin B3-B5 (fixes x, y translation and Rz)   dJointPU (prismatic along the vibrator axis,
 //                                 universal with axes x of B3 and y of B5: transmits the torque about z)
 //   O6 universal B5-B6            dJointUniversal

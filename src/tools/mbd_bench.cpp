@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/config.hpp"
+#include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "mbd/simulate.hpp"
 
@@ -21,7 +22,8 @@ void usage() {
 int main(int argc, char** argv) {
   std::string config, load = "bed";
   double seconds = 10.0, settle = 4.0, rpm = -1;
-  double static_moment = -1, viscosity = -1;
+  double static_moment = -1, viscosity = -1, modulus = -1;
+  bool diag = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -38,6 +40,8 @@ int main(int argc, char** argv) {
     else if (a == "--speed-rpm") rpm = std::stod(next());
     else if (a == "--static-moment") static_moment = std::stod(next());
     else if (a == "--bed-viscosity-kPa-s") viscosity = std::stod(next());
+    else if (a == "--bed-modulus-MPa") modulus = std::stod(next());
+    else if (a == "--diag") diag = true;
     else {
       usage();
       return 2;
@@ -60,7 +64,24 @@ int main(int argc, char** argv) {
     if (rpm > 0) params.drive_speed_rad_s = rpm * 2.0 * M_PI / 60.0;
     if (static_moment >= 0) params.vibrator_static_moment_kg_m = static_moment;
     if (viscosity >= 0) params.bed.viscosity_Pa_s = viscosity * 1e3;
+    if (modulus >= 0) params.bed.modulus_Pa = modulus * 1e6;
     mbd::validate(params);
+    if (diag) {  // state of the mechanism every 0.5 s (calibration aid)
+      mbd::Mechanism m(params, load == "none" ? mbd::LoadModel::None : mbd::LoadModel::Bed);
+      for (int k = 1; k * 0.5 <= seconds + settle + 1e-9; ++k) {
+        m.advance(0.5);
+        const auto tp = m.test_point();
+        const auto d = m.drive();
+        const auto e = m.energy();
+        std::printf("t %.1f nut_deg %.3f gap_mm %.2f bed_kN %.1f contact_kN %.1f spin %.3f cerr %.2e tp_mm [%.2f %.2f %.2f] P_kW %.1f "
+                    "W %.0f D %.0f E %.0f\n",
+                    m.time(), m.nutation_angle() * 180 / M_PI, m.min_gap() * 1e3, m.bed_force() / 1e3,
+                    m.contact_force() / 1e3, m.mantle_spin(), m.constraint_error(), tp.displacement.x() * 1e3,
+                    tp.displacement.y() * 1e3, tp.displacement.z() * 1e3, d.power / 1e3, e.drive_work,
+                    e.dissipation(), e.mechanical_energy());
+      }
+      return 0;
+    }
     mbd::SimOptions o;
     o.duration_s = seconds;
     o.settle_s = settle;
