@@ -70,7 +70,7 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   double rmax = 0.0;
 #pragma omp parallel for reduction(max : rmax) schedule(static) num_threads(nthreads)
   for (long i = 0; i < n; ++i) rmax = std::max(rmax, p.r[i]);
-  if (n > 0 && (grid_.empty() || rmax > grid_.margin())) grid_ = TriangleGrid(mesh_, 1.05 * rmax);
+  if (n > 0 && (grid_.empty() || rmax > grid_.margin())) grid_ = TriangleGrid(mesh_, 1.05 * rmax, grid_cell_);
 
   if (static_cast<int>(per_thread_.size()) < nthreads) per_thread_.resize(nthreads);
   for (auto& buf : per_thread_) buf.clear();

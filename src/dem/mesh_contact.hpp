@@ -73,6 +73,8 @@ class MeshContact : public Interaction {
 
   // OpenMP threads (0: omp_get_max_threads()); results do not depend on it.
   void set_threads(int n) { threads_ = n < 0 ? 0 : n; }
+  // Broad-phase cell edge (m); <= 0 (default) lets TriangleGrid choose. Takes effect at the next build.
+  void set_grid_cell(double h) { grid_cell_ = h; grid_ = TriangleGrid(); }
 
   void add_forces(Particles& p, double t, double dt) override;
 
@@ -101,6 +103,7 @@ class MeshContact : public Interaction {
   MaterialTable materials_;
   int wall_material_;
   int threads_ = 0;
+  double grid_cell_ = 0.0;
   std::vector<TriData> tri_;
   TriangleGrid grid_;
   std::optional<RegionMap> regions_;

@@ -14,8 +14,8 @@ namespace dem {
 class TriangleGrid {
  public:
   TriangleGrid() = default;
-  // margin: largest particle radius (plus any skin), m. cell: cell edge, m (<= 0: chosen from the
-  // mean triangle size and the margin). The cell count is capped (max_cells) by enlarging cells.
+  // margin: largest particle radius (plus any skin), m. cell: cell edge, m (<= 0: the larger of half the
+  // mean longest triangle edge and two margins). The cell count is capped (max_cells) by enlarging cells.
   TriangleGrid(const TriMesh& mesh, double margin, double cell = 0.0, long max_cells = 1L << 22);
 
   double margin() const { return margin_; }
