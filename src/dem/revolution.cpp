@@ -1,5 +1,6 @@
 #include "dem/revolution.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -57,13 +58,55 @@ TriMesh revolve_profile(const std::vector<ProfilePoint>& profile, int sectors, N
   const Eigen::Vector3d c = mesh.centroid(t0);
   const Eigen::Vector3d n = mesh.normal(t0);
   // Segment of triangle 0 is segment 0 (a non-degenerate one always exists first).
-  const double dz = profile[1].z - profile[0].z, dr = profile[1].r - profile[0].r;
+  const double rising = profile.back().z >= profile.front().z ? 1.0 : -1.0;
+  const double dz = rising * (profile[1].z - profile[0].z), dr = rising * (profile[1].r - profile[0].r);
   Eigen::Vector3d radial(c.x(), c.y(), 0.0);
   radial = radial.norm() > 0 ? radial.normalized() : Eigen::Vector3d::UnitX();
   const Eigen::Vector3d want = dz * radial + (-dr) * Eigen::Vector3d::UnitZ();
   const bool outward = n.dot(want) > 0.0;
   if (outward != (side == NormalSide::Outward)) mesh.flip_normals();
   return mesh;
+}
+
+std::vector<ProfilePoint> profile_points(const core::Profile& profile) {
+  if (profile.z.size() != profile.r.size())
+    throw std::invalid_argument("profile_points: " + std::to_string(profile.z.size()) + " z values and " +
+                                std::to_string(profile.r.size()) + " r values; accepted: equal counts");
+  std::vector<ProfilePoint> out;
+  for (size_t i = 0; i < profile.z.size(); ++i) out.push_back({profile.z[i], profile.r[i]});
+  return out;
+}
+
+std::vector<ProfilePoint> refine_profile(const std::vector<ProfilePoint>& profile, double max_len,
+                                         const std::vector<double>& z_cuts) {
+  if (profile.size() < 2)
+    throw std::invalid_argument("refine_profile: " + std::to_string(profile.size()) +
+                                " points; accepted: >= 2");
+  std::vector<ProfilePoint> out{profile.front()};
+  for (size_t i = 0; i + 1 < profile.size(); ++i) {
+    const ProfilePoint a = profile[i], b = profile[i + 1];
+    // Parameters in (0, 1) where the segment crosses a cut.
+    std::vector<double> ts;
+    for (double zc : z_cuts) {
+      if (a.z == b.z) break;
+      const double t = (zc - a.z) / (b.z - a.z);
+      if (t > 1e-9 && t < 1.0 - 1e-9) ts.push_back(t);
+    }
+    ts.push_back(1.0);
+    std::sort(ts.begin(), ts.end());
+    double t0 = 0.0;
+    for (double t1 : ts) {
+      const double len = std::hypot((t1 - t0) * (b.z - a.z), (t1 - t0) * (b.r - a.r));
+      const int pieces = max_len > 0.0 ? std::max(1, static_cast<int>(std::ceil(len / max_len - 1e-9))) : 1;
+      for (int k = 1; k <= pieces; ++k) {
+        const double t = t0 + (t1 - t0) * k / pieces;
+        if (t1 == 1.0 && k == pieces) out.push_back(b);  // exact end point
+        else out.push_back({a.z + t * (b.z - a.z), a.r + t * (b.r - a.r)});
+      }
+      t0 = t1;
+    }
+  }
+  return out;
 }
 
 }  // namespace dem

@@ -65,6 +65,54 @@ TEST(Revolution, NormalSidesOfMantleAndConcave) {
   EXPECT_EQ(boundary, 72);
 }
 
+TEST(Revolution, ProfileOrderDoesNotChangeTheSide) {
+  const std::vector<dem::ProfilePoint> up = {{0.0, 0.7}, {0.3, 0.55}, {0.6, 0.4}};
+  const std::vector<dem::ProfilePoint> down(up.rbegin(), up.rend());
+  for (auto side : {NormalSide::Outward, NormalSide::Inward}) {
+    const TriMesh a = dem::revolve_profile(up, 24, side), b = dem::revolve_profile(down, 24, side);
+    const double sign = side == NormalSide::Outward ? 1.0 : -1.0;
+    for (const TriMesh* m : {&a, &b})
+      for (size_t t = 0; t < m->num_triangles(); ++t) {
+        const Vector3d c = m->centroid(static_cast<int>(t));
+        ASSERT_GT(sign * m->normal(static_cast<int>(t)).dot(Vector3d(c.x(), c.y(), 0).normalized()), 0.8);
+      }
+  }
+}
+
+// The concave from a core::Profile (the chamber geometry shared with the MBD), refined at the 14 ring
+// boundaries: every triangle lies inside one ring band, so the 13 x 9 map has no straddling triangles.
+TEST(Revolution, RefinedConcaveAlignsWithRings) {
+  core::Profile prof;
+  prof.z = {0.62, 0.35, 0.05};  // top to bottom, as a config may list it
+  prof.r = {0.72, 0.58, 0.50};
+  std::vector<double> cuts;
+  for (int k = 0; k <= 13; ++k) cuts.push_back(0.05 + (0.62 - 0.05) * k / 13);
+  const auto pts = dem::refine_profile(dem::profile_points(prof), 0.02, cuts);
+  for (size_t i = 0; i + 1 < pts.size(); ++i) {
+    ASSERT_LE(std::hypot(pts[i + 1].z - pts[i].z, pts[i + 1].r - pts[i].r), 0.02 + 1e-12);
+    ASSERT_LT(pts[i + 1].z, pts[i].z);  // order kept
+    // on the original polyline
+    ASSERT_NEAR(pts[i].r, prof.radius_at(pts[i].z), 1e-12);
+  }
+  for (double zc : cuts) {
+    bool found = false;
+    for (const auto& p : pts) found |= std::fabs(p.z - zc) < 1e-12;
+    EXPECT_TRUE(found) << zc;
+  }
+  const TriMesh concave = dem::revolve_profile(pts, 72, NormalSide::Inward, 0.0, "concave");
+  const auto map = dem::RegionMap::rings_sectors(concave, 13, 9);
+  const double band = (0.62 - 0.05) / 13;
+  for (size_t t = 0; t < concave.num_triangles(); ++t) {
+    const int reg = map.region_of(static_cast<int>(t));
+    const int ring = reg / 9 + 1;
+    for (int v : concave.triangle(static_cast<int>(t))) {
+      ASSERT_LE(concave.vertex(v).z(), 0.62 - (ring - 1) * band + 1e-12);
+      ASSERT_GE(concave.vertex(v).z(), 0.62 - ring * band - 1e-12);
+    }
+  }
+  EXPECT_THROW(dem::refine_profile({{0, 1}}, 0.1), std::invalid_argument);
+}
+
 TEST(Revolution, BadProfilesAreRejected) {
   EXPECT_THROW(dem::revolve_profile({{0, 1}}, 12, NormalSide::Outward), std::invalid_argument);
   EXPECT_THROW(dem::revolve_profile({{0, 1}, {1, 1}}, 2, NormalSide::Outward), std::invalid_argument);
