@@ -183,7 +183,7 @@ double stable_step_bound(const MechanismParams& p, std::string* element) {
   // Bed: all sample patches together at strain 0.5 (stiffness of the whole loaded bed).
   const auto& g = p.chamber;
   const double L = g.mantle.length();
-  double kb = 0;
+  double kb = 0, cb = 0;
   const int ns = p.sampling.generator;
   for (int j = 0; j < ns; ++j) {
     const double s = (j + 0.5) * L / ns;
@@ -195,8 +195,17 @@ double stable_step_bound(const MechanismParams& p, std::string* element) {
     const double area = 2.0 * 3.14159265358979 * q.y() * L / ns;
     const double gref = p.bed.engage_ratio * grest;
     kb += area * p.bed.modulus_Pa * p.bed.exponent * std::pow(0.5, p.bed.exponent - 1.0) / gref;
+    cb += area * p.bed.viscosity_Pa_s / gref;
   }
   consider(p.floating_cone.mass_kg, 0.5 * kb, "material bed (mbd.bed.modulus_MPa)");
+  // Explicit damping is stable for dt < 2 m / c; bound m / c (half of it), loaded half of the bed.
+  if (cb > 0) {
+    const double t = p.floating_cone.mass_kg / (0.5 * cb);
+    if (t < best) {
+      best = t;
+      if (element) *element = "material bed damping m/c (mbd.bed.viscosity_kPa_s)";
+    }
+  }
   return best;
 }
 
@@ -237,6 +246,13 @@ void validate(const MechanismParams& p) {
     core::validate_chamber_geometry(p.chamber);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("mbd.") + e.what());
+  }
+  // Accuracy: the vibrator turns by w dt per step; its off-axis COM makes the joints drift by
+  // e (w dt)^2 / 2 per step, so keep w dt <= 0.05 rad (0.3 mm joint error at e = 0.16 m).
+  if (p.drive_speed_rad_s * p.dt_s > 0.05 + 1e-12) {
+    std::ostringstream s;
+    s << "<= " << 0.05 / p.drive_speed_rad_s << " s at this drive speed (drive rotation per step <= 0.05 rad)";
+    bad("time_step_s", p.dt_s, s.str());
   }
   std::string element;
   const double bound = stable_step_bound(p, &element);

@@ -34,17 +34,17 @@ struct ContactParams {
 // smaller than engage_ratio * g_rest (g_rest: gap of the untilted assembly at that height):
 //   strain e = 1 - g / (engage_ratio g_rest),  p = modulus e^exponent + viscosity * e_dot (closing only)
 struct BedParams {
-  double modulus_Pa = 40e6;
+  double modulus_Pa = 10e6;
   double exponent = 1.5;
   double engage_ratio = 0.9;
-  double viscosity_Pa_s = 1.5e6;   // Pa per unit strain rate (1/s)
+  double viscosity_Pa_s = 1.9e5;   // Pa per unit strain rate (1/s)
   double friction = 0.5;           // bed-on-mantle friction coefficient (Eq. 14 law, bed velocities)
   double v_s = 5e-3, v_d = 20e-3;  // m/s, stick/slip thresholds of the bed friction law
 };
 
 struct Sampling {
-  int azimuth = 36;    // samples around the circumference (cone contact and bed)
-  int generator = 5;   // samples along the mantle generator
+  int azimuth = 24;    // samples around the circumference (cone contact and bed)
+  int generator = 4;   // samples along the mantle generator
 };
 
 // Omitted-physics modules (all off by default; YAML mbd.effects.<name>).
@@ -76,7 +76,7 @@ struct Effects {
 
 struct MechanismParams {
   // Integration
-  double dt_s = 4e-4;
+  double dt_s = 1e-3;
   double gravity_m_s2 = 9.81;
   // Drive (O7): constant speed after a ramp from rest
   double drive_speed_rad_s = 400.0 * 2.0 * 3.14159265358979323846 / 60.0;
@@ -84,7 +84,7 @@ struct MechanismParams {
   double drive_max_torque_Nm = 2e5;
   // Bodies B1..B6 (Table 1 masses; positions, inertias: config reasoning)
   BodyParams fixed_cone, floating_cone, vibrator, globe_bearing, connecting_shaft, drive_shaft;
-  double vibrator_static_moment_kg_m = 70.0;  // mass x eccentricity (calibrated at 400 rpm)
+  double vibrator_static_moment_kg_m = 124.0;  // mass x eccentricity (calibrated at 400 rpm)
   double vibrator_axis_z_m = -1.3;            // O3: vibrator centre on the floating-cone axis
   double globe_bearing_z_m = -1.15;           // O2 (and the plane of O4)
   double ball_pin_z_m = -1.45;                // O5 on the vibrator axis

@@ -114,6 +114,9 @@ int main(int argc, char** argv) {
     wm /= rec.speed_rad_s.size();
     std::printf("mbd_bench config %s load %s speed_rpm %.1f\n", config.c_str(), load.c_str(),
                 params.drive_speed_rad_s * 60.0 / (2.0 * M_PI));
+    std::string element;
+    const double bound = mbd::stable_step_bound(params, &element);
+    std::printf("time_step_s %g stable_step_bound_s %g (%s)\n", params.dt_s, bound, element.c_str());
     std::printf("simulated_s %.3f wall_s %.3f real_time_factor %.1f steps %ld\n", sim, wall, sim / wall,
                 std::lround(sim / params.dt_s));
     std::printf("amplitude_x_mm mean %.3f std %.3f (half peak-to-peak per cycle, %zu cycles)\n", am * 1e3,
