@@ -99,6 +99,13 @@ Fragments Fragments::from_particles(const Particles& p, const std::vector<std::p
   return Fragments(p.id, b);
 }
 
+Fragments Fragments::from_bonds(const Particles& p, const std::vector<Bond>& bonds) {
+  std::vector<std::pair<int, int>> b;
+  for (const auto& bd : bonds)
+    if (bd.alive) b.emplace_back(static_cast<int>(bd.i), static_cast<int>(bd.j));
+  return from_particles(p, b);
+}
+
 int Fragments::node_of(uint64_t id) const {
   auto it = node_.find(id);
   if (it == node_.end())

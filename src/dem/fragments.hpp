@@ -44,6 +44,8 @@ class Fragments {
             const std::vector<std::pair<uint64_t, uint64_t>>& bonds);
   // Convenience: every particle of `p`, bonds given as index pairs into `p`.
   static Fragments from_particles(const Particles& p, const std::vector<std::pair<int, int>>& bonds);
+  // Convenience: every particle of `p` and the intact bonds (alive != 0) of World::bonds().
+  static Fragments from_bonds(const Particles& p, const std::vector<Bond>& bonds);
 
   // Break event: removes the bond (a, b). Returns true when it split a fragment in two.
   // Throws std::invalid_argument if no such intact bond exists.

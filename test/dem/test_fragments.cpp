@@ -166,3 +166,21 @@ TEST(Sieve, SimpleShapes) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Fragments, FromWorldBondsSkipsBrokenOnes) {
+  const dem::Particles p = chain(5, Vector3d::UnitX(), 0.005, nullptr);
+  std::vector<dem::Bond> bonds(4);
+  for (int k = 0; k < 4; ++k) {
+    bonds[k].i = k;
+    bonds[k].j = k + 1;
+  }
+  bonds[1].alive = 0;  // 1-2 already broken
+  const auto fr = dem::Fragments::from_bonds(p, bonds);
+  EXPECT_EQ(fr.num_fragments(), 2);
+  EXPECT_EQ(fr.num_bonds(), 3u);
+  EXPECT_EQ(fr.members(fr.fragment_of(p.id[4])), (std::vector<uint64_t>{2, 3, 4}));
+}
+
+}  // namespace

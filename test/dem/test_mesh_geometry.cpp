@@ -8,6 +8,7 @@
 
 #include "dem/mesh_contact.hpp"
 #include "dem/mesh_geometry.hpp"
+#include "dem/mesh_liners.hpp"
 #include "dem/region_map.hpp"
 #include "dem/revolution.hpp"
 #include "dem/stl.hpp"
@@ -295,6 +296,43 @@ TEST(RegionMap, ConcaveThirteenRingsNineSectors) {
   EXPECT_THROW(avg.add(std::vector<double>(3, 0.0), 1e-3), std::invalid_argument);
   EXPECT_THROW(dem::RegionMap::rings_sectors(concave, 0, 9), std::invalid_argument);
   EXPECT_THROW(map.ring_sector(14, 1), std::out_of_range);
+}
+
+}  // namespace
+
+namespace {
+
+// The GYP1200 chamber of launch_free_configs/gyp1200_400rpm.yaml (liner frame, m).
+TEST(Liners, MantleAndConcaveFromTheChamberGeometry) {
+  core::ChamberGeometry g;
+  g.mantle.z = {-0.200, -0.715};
+  g.mantle.r = {0.168, 0.600};
+  g.concave.z = {-0.100, -0.760};
+  g.concave.r = {0.194, 0.662};
+  const auto liners = dem::make_liner_meshes(g, 72, 0.03);
+  // Lateral areas vs the smooth cone frusta, within the tessellation error (pi/n)^2/6 + slant term.
+  auto lateral = [](double r1, double r2, double h) { return kPi * (r1 + r2) * std::hypot(h, r1 - r2); };
+  const double tol = std::pow(kPi / 72, 2) * 0.7;
+  EXPECT_NEAR(liners.mantle.area() / lateral(0.168, 0.600, 0.515), 1.0, tol);
+  EXPECT_NEAR(liners.concave.area() / lateral(0.194, 0.662, 0.660), 1.0, tol);
+  EXPECT_LT(liners.mantle.area(), lateral(0.168, 0.600, 0.515));  // inscribed polygons
+  for (size_t t = 0; t < liners.mantle.num_triangles(); ++t) {
+    const Vector3d c = liners.mantle.centroid(static_cast<int>(t));
+    ASSERT_GT(liners.mantle.normal(static_cast<int>(t)).dot(Vector3d(c.x(), c.y(), 0).normalized()), 0.5);
+  }
+  const auto& map = liners.concave_regions;
+  ASSERT_EQ(map.num_regions(), 117);
+  std::vector<int> per_region(117, 0);
+  for (size_t t = 0; t < liners.concave.num_triangles(); ++t) {
+    const Vector3d c = liners.concave.centroid(static_cast<int>(t));
+    ASSERT_LT(liners.concave.normal(static_cast<int>(t)).dot(Vector3d(c.x(), c.y(), 0).normalized()), -0.5);
+    ASSERT_GE(map.region_of(static_cast<int>(t)), 0);
+    ++per_region[map.region_of(static_cast<int>(t))];
+  }
+  for (int n : per_region) EXPECT_EQ(n, per_region[0]);  // 72 = 8 x 9 sectors, rings cut exactly
+  EXPECT_THROW(dem::make_liner_meshes(g, 72, 0.0), std::invalid_argument);
+  g.concave.r = {0.10, 0.30};  // concave inside the mantle
+  EXPECT_THROW(dem::make_liner_meshes(g, 72, 0.03), std::invalid_argument);
 }
 
 }  // namespace
