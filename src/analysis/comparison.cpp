@@ -21,11 +21,26 @@ std::complex<double> shifted(const Harmonics& h, int k, double omega, double tau
 bool is_displacement(int c) { return c == kX || c == kY || c == kZ; }
 }  // namespace
 
+double harmonic_sigma2(const Dataset& d, const Harmonics& m, int c, double gain) {
+  // Recording noise plus the model's own non-periodic part, as seen by a harmonic coefficient: the
+  // model's coefficients come from m.samples samples, the recording's from d.rec.size().
+  const double g = is_displacement(c) ? gain : 1.0;
+  const double model = m.samples > 0 ? g * g * m.remainder_var * d.rec.size() / m.samples : 0.0;
+  return d.sigma2[c] + model;
+}
+
 ChannelHarmonics model_harmonics(const Recording& run, int K) {
   check_consistent(run);
   const double w = run.mean_speed_rad_s();
   ChannelHarmonics out;
-  for (int c = 0; c < kNumChannels; ++c) out[c] = fit_harmonics(run.t_s, run.channel(c), w, K);
+  for (int c = 0; c < kNumChannels; ++c) {
+    out[c] = fit_harmonics(run.t_s, run.channel(c), w, K);
+    const auto r = harmonic_remainder(run.t_s, run.channel(c), out[c]);
+    double s = 0;
+    for (double v : r) s += v * v;
+    out[c].samples = run.size();
+    out[c].remainder_var = s / std::max(1.0, run.size() - (2.0 * K + 1));
+  }
   return out;
 }
 
@@ -75,6 +90,8 @@ std::array<double, kNumChannels> harmonic_rss(const Dataset& d, const ChannelHar
 double harmonic_cost(const Dataset& d, const ChannelHarmonics& m, const Alignment& a) {
   auto rss = harmonic_rss(d, m, a);
   double s = 0;
+  // Plain weighted least squares with the recording's noise: the model's own fluctuation must not
+  // excuse a misfit inside a fit (a model that blows up would look "uncertain", hence good).
   for (int c = 0; c < kNumChannels; ++c) s += rss[c] / d.sigma2[c];
   return s;
 }
@@ -169,7 +186,8 @@ Comparison compare(const Dataset& d, const ChannelHarmonics& m, const Alignment&
       e.order_nrmse.push_back(e.order_recording_power[s] > 0
                                   ? std::sqrt(e.order_residual_power[s] / e.order_recording_power[s])
                                   : 0.0);
-    e.chi2 = n * hp / e.sigma2;
+    e.harmonic_sigma2 = harmonic_sigma2(d, m[c], c, a.gain);
+    e.chi2 = n * hp / e.harmonic_sigma2;
     e.dof_chi2 = 2 * kFitOrders + 1;
     num += e.rss / e.sigma2;
     den += e.tss / e.sigma2;

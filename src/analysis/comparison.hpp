@@ -41,7 +41,11 @@ struct Alignment {
 };
 // Best tau in [0, period) (and gain, if fit_gain) in the harmonic domain, weights 1 / sigma2.
 Alignment align(const Dataset& d, const ChannelHarmonics& m, bool fit_gain = true, bool fit_tau = true);
-// Weighted cost sum_c RSS_c / sigma2_c evaluated in the harmonic domain (fast; used inside fits).
+// Noise variance against which a channel's harmonic residual is judged: recording noise plus the model
+// run's non-periodic remainder scaled to the recording's length (a short model run of a mechanism with
+// broadband fluctuation gives uncertain harmonics).
+double harmonic_sigma2(const Dataset& d, const Harmonics& m, int c, double gain);
+// Weighted cost sum_c RSS_c / sigma2_c (recording noise only) evaluated in the harmonic domain (fast; used inside fits).
 double harmonic_cost(const Dataset& d, const ChannelHarmonics& m, const Alignment& a);
 // Per-channel harmonic-domain RSS (non-harmonic remainder included).
 std::array<double, kNumChannels> harmonic_rss(const Dataset& d, const ChannelHarmonics& m, const Alignment& a);
@@ -53,7 +57,8 @@ struct ChannelError {
   std::vector<double> order_residual_power;   // mean power of the residual's order-k part
   std::vector<double> order_recording_power;  // mean power of the recording's order-k part
   std::vector<double> order_nrmse;            // sqrt(residual / recording power) per order
-  double chi2 = 0;   // n * harmonic residual power / sigma2 (chi-square, dof_chi2, if only noise)
+  double harmonic_sigma2 = 0;  // sigma2 plus the model's own non-periodic part (see harmonic_sigma2)
+  double chi2 = 0;   // n * harmonic residual power / harmonic_sigma2 (chi-square, dof_chi2, if only noise)
   int dof_chi2 = 0;
   std::vector<double> window_rms_over_sigma;  // RMS residual / noise std in each time window
 };

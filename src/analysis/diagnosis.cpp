@@ -45,7 +45,9 @@ struct Evaluator {
   std::map<std::tuple<std::string, double, double>, ChannelHarmonics> cache;
   int runs = 0;
 
-  const ChannelHarmonics& harmonics(const std::string& effect, double value, double speed) {
+  const ChannelHarmonics& harmonics(const std::string& effect_in, double value, double speed) {
+    // Every candidate at zero strength is the unchanged model: run it once.
+    const std::string effect = value == 0.0 ? "none" : effect_in;
     auto key = std::make_tuple(effect, value, speed);
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
@@ -55,13 +57,22 @@ struct Evaluator {
     return cache[key] = model_harmonics(run);
   }
   // Profile cost: nuisance alignment re-fitted for every value.
+  // A parameter value at which the model fails (blow-up, stalled drive) is a bad fit, not an error.
+  int failures = 0;
+  std::string last_failure;
   double cost(const std::string& effect, double value, const std::vector<Dataset>& ds) {
     double s = 0;
     for (const auto& d : ds) {
-      const auto& m = harmonics(effect, value, d.mean_speed);
-      s += harmonic_cost(d, m, align(d, m));
+      try {
+        const auto& m = harmonics(effect, value, d.mean_speed);
+        s += harmonic_cost(d, m, align(d, m));
+      } catch (const std::exception& e) {
+        ++failures;
+        last_failure = effect + " = " + std::to_string(value) + ": " + e.what();
+        return 1e300;
+      }
     }
-    return s;
+    return std::isfinite(s) ? s : 1e300;
   }
   std::vector<Comparison> compare_all(const std::string& effect, double value, const std::vector<Dataset>& ds,
                                       bool aligned = true) {
@@ -147,7 +158,7 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
           m.dataset = c.label;
           m.channel = kChannelNames[ch];
           m.order = k;
-          m.excess_chi2 = std::max(0.0, e.n * e.order_residual_power[k] / e.sigma2 - dof);
+          m.excess_chi2 = std::max(0.0, e.n * e.order_residual_power[k] / e.harmonic_sigma2 - dof);
           m.nrmse = e.order_nrmse[k];
           excess_total += m.excess_chi2;
           r.located.push_back(m);
@@ -177,7 +188,7 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
     const double h = std::max(0.01 * (spec.hi - spec.lo), 0.05 * std::abs(best.x));
     const double x0 = std::max(best.x, spec.lo + h);
     const double curv = second_derivative(f, x0, x0 == best.x ? best.f : f(x0), h);
-    cr.sigma = curv > 0 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
+    cr.sigma = curv > 0 && curv < 1e290 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
     auto after_train = ev.compare_all(spec.name, cr.value, r.train);
     auto after_held = ev.compare_all(spec.name, cr.value, r.heldout);
     information(after_train, 1, cr.aic, cr.bic);
@@ -228,6 +239,8 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
     r.after_heldout = r.before_heldout;
   }
   r.model_runs = ev.runs;
+  r.model_failures = ev.failures;
+  r.last_model_failure = ev.last_failure;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
 }

@@ -62,6 +62,8 @@ struct DiagnosisResult {
   double nonphysical_share = 0;    // share of the naive residual removed by time offset and gain
   bool residual_significant = false;
   int model_runs = 0;
+  int model_failures = 0;          // runs that threw (counted as a bad fit), and the last message
+  std::string last_model_failure;
   double wall_s = 0;
 };
 

@@ -115,7 +115,8 @@ std::string diagnosis_json(const DiagnosisResult& r) {
   comparisons_json(o, r.after_heldout);
   o << "},\n    \"naive_train\": ";
   comparisons_json(o, r.naive_train);
-  o << "\n  },\n  \"model_runs\": " << r.model_runs << ",\n  \"wall_s\": " << num(r.wall_s) << "\n}\n";
+  o << "\n  },\n  \"model_failures\": " << r.model_failures << ",\n  \"last_model_failure\": \""
+    << esc(r.last_model_failure) << "\",\n  \"model_runs\": " << r.model_runs << ",\n  \"wall_s\": " << num(r.wall_s) << "\n}\n";
   return o.str();
 }
 

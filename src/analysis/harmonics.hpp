@@ -11,6 +11,9 @@ namespace analysis {
 struct Harmonics {
   double omega = 0;                          // rad/s, fundamental
   std::vector<std::complex<double>> C;       // C[0] = mean (real), C[k] = a_k - i b_k
+  // Variance of what the fit left over and the number of samples: the uncertainty of each estimated
+  // coefficient pair is ~ 2 remainder_var / samples (set by model_harmonics; 0 = exact).
+  double remainder_var = 0, samples = 0;
   int orders() const { return static_cast<int>(C.size()) - 1; }
   double amplitude(int k) const;             // |C_k| (k >= 1), |mean| for k = 0
   double phase(int k) const;                 // arg of cos(k w t + phase): arg(C_k)

@@ -1,0 +1,27 @@
+#pragma once
+// The diagnosis's model: the mechanism (src/mbd) with the equivalent material-bed load, one candidate
+// effect switched on at a given main-parameter value, the drive set to reproduce a measured mean speed.
+#include <string>
+
+#include "analysis/diagnosis.hpp"
+#include "mbd/mechanism_params.hpp"
+
+namespace analysis {
+
+struct MbdModelOptions {
+  std::string load = "bed";  // fast MBD-only mode (DESIGN.md: `bed`)
+  double settle_s = 4.0;     // discarded start (drive ramp + absorber transient)
+  double sample_hz = 1000;
+};
+
+// Candidate effects and the search range of each main parameter, in the units of the YAML keys
+// mbd.effects.<name>.<parameter>.
+std::vector<EffectSpec> mbd_candidates();
+// base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns
+// base with every effect off. Throws std::invalid_argument for an unknown effect name.
+mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value);
+// ModelFn over mbd::simulate. With motor droop the measured speed is below the set point
+// (speed = w0 - droop torque): w0 is chosen so that the simulated mean speed equals the requested one.
+ModelFn make_mbd_model(const mbd::MechanismParams& base, const MbdModelOptions& opt = {});
+
+}  // namespace analysis

@@ -1,0 +1,234 @@
+// diagnose: where a simulation and real recordings differ, which omitted physics explains it, the model
+// with it fitted, and the fit before/after (issue 6; DESIGN.md "scripts/crusher diagnose").
+//   diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR
+//            [--model-seconds S] [--settle-s S] [--no-plots]
+// FILE: CSV (t_s, x_m, y_m, z_m, power_W, speed_rad_s) or, when built with ROS, a bag with
+// /crusher/test_point and /crusher/drive. The first recording trains, the others are held out.
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analysis/diagnosis.hpp"
+#include "analysis/mbd_model.hpp"
+#include "core/config.hpp"
+#include "mbd/mechanism_params.hpp"
+
+#ifdef CRUSHER_WITH_ROS
+#include <inertia_crusher/DriveState.h>
+#include <inertia_crusher/TestPoint.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#endif
+
+namespace fs = std::filesystem;
+using namespace analysis;
+
+namespace {
+
+const char* kUsage =
+    "usage: diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR\n"
+    "                [--model-seconds S (default 1)] [--settle-s S (default 4)] [--no-plots]\n"
+    "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
+    "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n";
+
+#ifdef CRUSHER_WITH_ROS
+// Test-point samples with the drive state linearly interpolated to their stamps.
+Recording read_bag(const std::string& path) {
+  rosbag::Bag bag;
+  try {
+    bag.open(path, rosbag::bagmode::Read);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(path + ": cannot open bag (" + e.what() + ")");
+  }
+  std::vector<double> tp_t, dx, dy, dz, dr_t, sp, pw;
+  rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{"/crusher/test_point", "/crusher/drive"}));
+  for (const auto& m : view) {
+    if (auto tp = m.instantiate<inertia_crusher::TestPoint>()) {
+      tp_t.push_back(tp->header.stamp.toSec());
+      dx.push_back(tp->displacement.x);
+      dy.push_back(tp->displacement.y);
+      dz.push_back(tp->displacement.z);
+    } else if (auto d = m.instantiate<inertia_crusher::DriveState>()) {
+      dr_t.push_back(d->header.stamp.toSec());
+      sp.push_back(d->speed);
+      pw.push_back(d->power);
+    } else {
+      throw std::invalid_argument(path + ": topic " + m.getTopic() + " has type " + m.getDataType() +
+                                  "; accepted: inertia_crusher/TestPoint on /crusher/test_point, "
+                                  "inertia_crusher/DriveState on /crusher/drive");
+    }
+  }
+  bag.close();
+  if (tp_t.empty() || dr_t.empty())
+    throw std::invalid_argument(path + ": bag lacks messages on /crusher/test_point (" + std::to_string(tp_t.size()) +
+                                ") or /crusher/drive (" + std::to_string(dr_t.size()) + "); both are needed");
+  Recording r;
+  r.source = path;
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < tp_t.size(); ++i) {
+    const double t = tp_t[i];
+    if (t < dr_t.front() || t > dr_t.back()) continue;
+    if (!r.t_s.empty() && t <= r.t_s.back()) continue;  // duplicate stamps
+    while (j + 1 < dr_t.size() && dr_t[j + 1] < t) ++j;
+    const std::size_t k = std::min(j + 1, dr_t.size() - 1);
+    const double a = dr_t[k] > dr_t[j] ? (t - dr_t[j]) / (dr_t[k] - dr_t[j]) : 0.0;
+    r.t_s.push_back(t);
+    r.x_m.push_back(dx[i]);
+    r.y_m.push_back(dy[i]);
+    r.z_m.push_back(dz[i]);
+    r.speed_rad_s.push_back(sp[j] + a * (sp[k] - sp[j]));
+    r.power_W.push_back(pw[j] + a * (pw[k] - pw[j]));
+  }
+  // Re-use the CSV checks (monotonic time, gaps, positive speed, finite values).
+  std::ostringstream csv;
+  csv.precision(12);
+  csv << "t_s,x_m,y_m,z_m,power_W,speed_rad_s\n";
+  for (std::size_t i = 0; i < r.size(); ++i)
+    csv << r.t_s[i] << ',' << r.x_m[i] << ',' << r.y_m[i] << ',' << r.z_m[i] << ',' << r.power_W[i] << ','
+        << r.speed_rad_s[i] << '\n';
+  return parse_recording_csv(csv.str(), path + " (bag, merged)");
+}
+#endif
+
+Recording read_any(const std::string& path) {
+  const std::string ext = fs::path(path).extension().string();
+  if (ext == ".bag") {
+#ifdef CRUSHER_WITH_ROS
+    return read_bag(path);
+#else
+    throw std::invalid_argument(path + ": bag input needs a build with ROS (CRUSHER_WITH_ROS); convert it to "
+                                "CSV (t_s,x_m,y_m,z_m,power_W,speed_rad_s) or rebuild with ROS");
+#endif
+  }
+  return read_recording_csv(path);
+}
+
+void write_text(const fs::path& p, const std::string& s) {
+  std::ofstream f(p);
+  f << s;
+  if (!f) throw std::runtime_error(p.string() + ": cannot write");
+}
+
+// Aligned recording and model (before, after) for the plots: first `seconds` of each data set.
+void write_overlay(const fs::path& p, const Dataset& d, const Comparison& before, const Comparison& after,
+                   double seconds) {
+  std::ofstream f(p);
+  f.precision(9);
+  f << "t_s";
+  for (const char* w : {"rec", "before", "after"})
+    for (int c = 0; c < kNumChannels; ++c) f << ',' << w << '_' << kChannelNames[c];
+  f << '\n';
+  const double t0 = d.rec.t_s.front();
+  for (std::size_t i = 0; i < d.rec.size() && d.rec.t_s[i] < t0 + seconds; ++i) {
+    f << d.rec.t_s[i];
+    for (int c = 0; c < kNumChannels; ++c) f << ',' << d.rec.channel(c)[i];
+    for (int c = 0; c < kNumChannels; ++c) f << ',' << before.model_on_recording_times[c][i];
+    for (int c = 0; c < kNumChannels; ++c) f << ',' << after.model_on_recording_times[c][i];
+    f << '\n';
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> recs;
+  std::string config, out;
+  double model_seconds = 1.0, settle_s = 4.0;
+  bool plots = true;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      auto number = [&](double lo, double hi) {
+        const std::string v = value();
+        char* end = nullptr;
+        const double x = std::strtod(v.c_str(), &end);
+        if (!end || *end || !(x >= lo && x <= hi))
+          throw std::invalid_argument(a + " " + v + ": accepted a number in [" + std::to_string(lo) + ", " +
+                                      std::to_string(hi) + "]");
+        return x;
+      };
+      if (a == "--recording") recs.push_back(value());
+      else if (a == "--config") config = value();
+      else if (a == "--out") out = value();
+      else if (a == "--model-seconds") model_seconds = number(0.3, 60);
+      else if (a == "--settle-s") settle_s = number(0, 60);
+      else if (a == "--no-plots") plots = false;
+      else if (a == "-h" || a == "--help") { std::cout << kUsage; return 0; }
+      else throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+    if (recs.empty() || config.empty() || out.empty())
+      throw std::invalid_argument("--recording, --config and --out are required");
+
+    core::ConfigNode root = core::ConfigNode::load_file(config);
+    const mbd::MechanismParams base = mbd::load_mechanism_params(root.child("mbd"));
+    for (const auto& kv : root.raw())
+      if (kv.first.as<std::string>() != "mbd") root.ignore(kv.first.as<std::string>());
+    root.finish();
+
+    std::vector<Recording> recordings;
+    for (const auto& f : recs) recordings.push_back(read_any(f));
+
+    MbdModelOptions mo;
+    mo.settle_s = settle_s;
+    DiagnosisOptions opt;
+    opt.model_seconds = model_seconds;
+    std::cerr << "diagnose: " << recordings.size() << " recording(s), model " << config << "\n";
+    DiagnosisResult r = diagnose(recordings, make_mbd_model(base, mo), mbd_candidates(), opt);
+
+    fs::create_directories(out);
+    const fs::path dir(out);
+    write_text(dir / "diagnosis.json", diagnosis_json(r));
+    write_text(dir / "report.md", diagnosis_markdown(r));
+    // fitted.yaml: the run section as given, then the model with the chosen effect (or unchanged).
+    mbd::MechanismParams fitted = base;
+    if (r.chosen >= 0) fitted = with_effect(base, r.effect, r.candidates[r.chosen].value);
+    std::ostringstream y;
+    y << "# Written by diagnose from " << config << ": effect " << r.effect;
+    if (r.chosen >= 0) y << " fitted (" << r.candidates[r.chosen].spec.parameter << " = " << r.candidates[r.chosen].value
+                         << " +- " << r.candidates[r.chosen].sigma << " " << r.candidates[r.chosen].spec.unit << ")";
+    else y << " (model unchanged)";
+    y << "\n";
+    if (root.has("run")) {
+      YAML::Node run_only;
+      run_only["run"] = root.raw()["run"];
+      YAML::Emitter em;
+      em << run_only;
+      y << em.c_str() << "\n";
+    }
+    y << mbd::to_yaml(fitted);
+    write_text(dir / "fitted.yaml", y.str());
+
+    if (plots) {
+      int i = 0;
+      for (std::size_t k = 0; k < r.train.size(); ++k)
+        write_overlay(dir / ("overlay_" + std::to_string(i++) + ".csv"), r.train[k], r.before_train[k], r.after_train[k], 1.0);
+      for (std::size_t k = 0; k < r.heldout.size(); ++k)
+        write_overlay(dir / ("overlay_" + std::to_string(i++) + ".csv"), r.heldout[k], r.before_heldout[k], r.after_heldout[k], 1.0);
+      const fs::path script = fs::path(__FILE__).parent_path() / "plot_diagnosis.py";
+      const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + dir.string() + "'";
+      if (std::system(cmd.c_str()) != 0)
+        std::cerr << "diagnose: warning: plotting failed (" << cmd << "); results are written\n";
+    }
+    std::cout << "effect " << r.effect << "\n" << r.reason << "\n";
+    if (r.chosen >= 0)
+      std::cout << r.candidates[r.chosen].spec.parameter << " " << r.candidates[r.chosen].value << " +- "
+                << r.candidates[r.chosen].sigma << " " << r.candidates[r.chosen].spec.unit << "\n";
+    std::cout << "wall_s " << r.wall_s << " model_runs " << r.model_runs << "\nwrote " << out << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "diagnose: error: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+}

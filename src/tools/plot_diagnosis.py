@@ -1,0 +1,70 @@
+#!/usr/bin/python3
+"""Plots for the mismatch diagnosis: overlay_<i>.png (recording, model before and after the fitted
+effect, per channel) and residual_spectrum.png (residual power by harmonic order of the drive
+frequency, before and after, per channel). Usage: plot_diagnosis.py DIR (written by diagnose)."""
+import glob
+import json
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+CH = ["x_m", "y_m", "z_m", "power_W", "speed_rad_s"]
+LABEL = {"x_m": "x (mm)", "y_m": "y (mm)", "z_m": "z (mm)", "power_W": "power (kW)", "speed_rad_s": "speed (rad/s)"}
+SCALE = {"x_m": 1e3, "y_m": 1e3, "z_m": 1e3, "power_W": 1e-3, "speed_rad_s": 1.0}
+
+
+def main(d):
+    with open(os.path.join(d, "diagnosis.json")) as f:
+        diag = json.load(f)
+    names = [c["dataset"] for c in diag["metrics"]["before"]["train"] + diag["metrics"]["before"]["heldout"]]
+    for path in sorted(glob.glob(os.path.join(d, "overlay_*.csv"))):
+        i = int(os.path.basename(path)[8:-4])
+        a = np.genfromtxt(path, delimiter=",", names=True)
+        fig, axes = plt.subplots(len(CH), 1, figsize=(9, 11), sharex=True)
+        for ax, c in zip(axes, CH):
+            s = SCALE[c]
+            ax.plot(a["t_s"], a["rec_" + c] * s, "k.", ms=1.5, label="recording")
+            ax.plot(a["t_s"], a["before_" + c] * s, "r-", lw=1, label="model before")
+            ax.plot(a["t_s"], a["after_" + c] * s, "b--", lw=1, label="model after (%s)" % diag["effect"])
+            ax.set_ylabel(LABEL[c])
+        axes[0].legend(loc="upper right", fontsize=7)
+        axes[-1].set_xlabel("t (s)")
+        title = names[i] if i < len(names) else path
+        fig.suptitle("%s%s" % (title, " (held out)" if i >= len(diag["metrics"]["before"]["train"]) else " (training)"))
+        fig.tight_layout()
+        fig.savefig(os.path.join(d, "overlay_%d.png" % i), dpi=90)
+        plt.close(fig)
+    before = diag["metrics"]["before"]["train"] + diag["metrics"]["before"]["heldout"]
+    after = diag["metrics"]["after"]["train"] + diag["metrics"]["after"]["heldout"]
+    fig, axes = plt.subplots(len(CH), len(before), figsize=(5 * len(before), 11), squeeze=False)
+    for j, (b, a) in enumerate(zip(before, after)):
+        for k, c in enumerate(CH):
+            ax = axes[k][j]
+            noise = b["channels"][c]["noise_std"] ** 2
+            pb = np.array(b["channels"][c]["order_residual_power"]) / noise
+            pa = np.array(a["channels"][c]["order_residual_power"]) / noise
+            x = np.arange(len(pb))
+            ax.bar(x - 0.2, pb, 0.4, color="r", label="before")
+            ax.bar(x + 0.2, pa, 0.4, color="b", label="after")
+            ax.set_yscale("log")
+            ax.set_xticks(x)
+            ax.set_xticklabels([str(o) for o in range(len(pb) - 1)] + ["7-12"])
+            ax.set_ylabel("%s\nresidual power / noise var" % c, fontsize=8)
+            if k == 0:
+                ax.set_title(b["dataset"], fontsize=9)
+                ax.legend(fontsize=7)
+            if k == len(CH) - 1:
+                ax.set_xlabel("harmonic order of the drive frequency")
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "residual_spectrum.png"), dpi=90)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    main(sys.argv[1])
