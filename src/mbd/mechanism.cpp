@@ -80,6 +80,7 @@ struct Mechanism::Impl {
   double o4_normal_rest = 0;          // (B4 point - B3 axis point) . axis at rest
   double ecc = 0;                     // vibrator eccentricity
   double torque = 0;                  // drive torque (last step)
+  bool droop = false;                 // motor-droop effect: drive torque from the speed-torque line
   double min_gap = 0, bed_force = 0, contact_force = 0;
   Eigen::Vector3d ext_f[kBodyCount], ext_t[kBodyCount];
   EnergyAudit audit;
@@ -198,7 +199,10 @@ void Mechanism::Impl::build() {
   dJointAttach(o7, B[5], nullptr);
   dJointSetHingeAnchor(o7, b6x[0], b6x[1], b6x[2]);
   dJointSetHingeAxis(o7, drive_axis[0], drive_axis[1], drive_axis[2]);
-  dJointSetHingeParam(o7, dParamFMax, p.drive_max_torque_Nm);
+  // Constant speed: a stiff velocity motor. With the motor-droop effect the drive is instead the
+  // motor's linear speed-torque line T = (w_set - w) / droop, applied as a torque (see apply_and_step).
+  droop = p.effects.motor_droop.enabled && p.effects.motor_droop.droop_rad_s_per_Nm > 0;
+  dJointSetHingeParam(o7, dParamFMax, droop ? 0.0 : p.drive_max_torque_Nm);
   dJointSetHingeParam(o7, dParamVel, 0.0);
   dJointSetFeedback(o7, &o7_feedback);
 
@@ -323,8 +327,15 @@ void Mechanism::Impl::apply_and_step() {
   const double ramp = p.drive_ramp_s > 0 ? std::min(1.0, (t + dt) / p.drive_ramp_s) : 1.0;
   const double smooth = ramp * ramp * (3.0 - 2.0 * ramp);
   double w_cmd = p.drive_speed_rad_s * smooth;
-  if (p.effects.motor_droop.enabled) w_cmd -= p.effects.motor_droop.droop_rad_s_per_Nm * torque;
-  dJointSetHingeParam(o7, dParamVel, w_cmd);
+  double droop_torque = 0;
+  if (droop) {
+    const double w = dJointGetHingeAngleRate(o7);
+    droop_torque = std::clamp((w_cmd - w) / p.effects.motor_droop.droop_rad_s_per_Nm, -p.drive_max_torque_Nm,
+                              p.drive_max_torque_Nm);
+    dJointAddHingeTorque(o7, droop_torque);
+  } else {
+    dJointSetHingeParam(o7, dParamVel, w_cmd);
+  }
   {  // O4 planar: rotational rows driven by the misalignment of the globe bearing to the vibrator
     const Eigen::Matrix3d R3 = rot(2);
     const Eigen::Vector3d mis = R3.col(2).cross(rot(3).col(2));
@@ -340,7 +351,7 @@ void Mechanism::Impl::apply_and_step() {
   // ---- bookkeeping ----
   Eigen::Vector3d vm[kBodyCount], wm[kBodyCount];
   for (int i = 0; i < kBodyCount; ++i) vm[i] = 0.5 * (v0[i] + lvel(i)), wm[i] = 0.5 * (w0[i] + avel(i));
-  torque = vec(o7_feedback.t1).dot(drive_axis);
+  torque = droop ? droop_torque : vec(o7_feedback.t1).dot(drive_axis);
   audit.drive_work += torque * wm[5].dot(drive_axis) * dt;
   audit.absorber_dissipation -= (f_abs.dot(vm[0]) + t_abs.dot(wm[0])) * dt;
   auto diss = [&](int i, const Wrench& w) { return -(w.f_diss.dot(vm[i]) + w.t_diss.dot(wm[i])) * dt; };

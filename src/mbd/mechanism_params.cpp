@@ -254,6 +254,19 @@ void validate(const MechanismParams& p) {
     s << "<= " << 0.05 / p.drive_speed_rad_s << " s at this drive speed (drive rotation per step <= 0.05 rad)";
     bad("time_step_s", p.dt_s, s.str());
   }
+  if (p.effects.motor_droop.enabled && p.effects.motor_droop.droop_rad_s_per_Nm > 0) {
+    // The droop line acts as an explicit damper 1/droop on the drive-line inertia I (vibrator spin
+    // inertia + m e^2 + shafts): stable for dt < 2 droop I; accept dt <= droop I.
+    const double I = p.vibrator.inertia_kg_m2.z() + p.vibrator.mass_kg * std::pow(p.vibrator_eccentricity_m(), 2) +
+                     p.drive_shaft.inertia_kg_m2.z() + p.connecting_shaft.inertia_kg_m2.z();
+    const double min_droop = p.dt_s / I;
+    if (p.effects.motor_droop.droop_rad_s_per_Nm < min_droop) {
+      std::ostringstream s;
+      s << ">= " << min_droop * 1e3 << " rad/s per kN m at time_step_s " << p.dt_s
+        << " (drive-line inertia " << I << " kg m^2), or 0 / enabled: false for a constant speed";
+      bad("effects.motor_droop.droop_rad_s_per_kNm", p.effects.motor_droop.droop_rad_s_per_Nm * 1e3, s.str());
+    }
+  }
   std::string element;
   const double bound = stable_step_bound(p, &element);
   if (p.dt_s > bound) {
