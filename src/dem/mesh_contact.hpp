@@ -10,6 +10,9 @@
 // The law is demcore's hertz_mindlin() (paper Eq. 16-19 + CDT rolling friction) with the
 // particle-wall material pair, the wall of infinite mass and radius (r* = r_i, M* = m_i).
 // Meshes are two-sided: the normal points from the closest surface point to the particle centre.
+// Relative velocity at the contact point q: particle surface minus wall v + w x (q - origin); the
+// rolling friction uses the spin relative to the wall (w_i - w_wall), so a particle carried round
+// by a turning liner feels none.
 //
 // Tangential history is kept per (particle id, triangle). A new contact on a triangle takes over the
 // history of the same particle's previous contact on another triangle that is no longer touched and

@@ -65,6 +65,39 @@ TEST(MeshContact, FaceContactWithApproachVelocityHasEq16Damping) {
   EXPECT_GT(p.fz[0], hertz_plane(pp.E_star, r, delta) * 1.01);  // damping is really there
 }
 
+// The wall's own motion enters the relative velocity: v + w x (q - origin) at the contact point q.
+TEST(MeshContact, RotatingWallVelocityAtTheContactPoint) {
+  const auto mats = dem::default_table4();
+  const auto& pp = mats.pair(kRock, kSteel);
+  const double r = 0.01, delta = 2e-5, omega = 3.0, x = 0.6;
+  MeshContact mc(square(), mats, kSteel);
+  dem::Pose pose;
+  pose.position = Vector3d(0.2, 0, 0);  // rotation axis through (0.2, 0, 0) along -y
+  pose.orientation.setIdentity();
+  mc.set_pose(pose);
+  dem::Twist tw;
+  tw.angular = Vector3d(0, -omega, 0);  // the point at x lifts at omega (x - 0.2)
+  tw.linear = Vector3d(0, 0, 0.1);      // plus a uniform lift
+  mc.set_twist(tw);
+  auto p = one_sphere({0.2 + x, 0.5, r - delta}, r);  // body-frame x = 0.6, above the square
+  mc.add_forces(p, 0.0, 1e-6);
+  ASSERT_EQ(mc.contacts().size(), 1u);
+  const double vn = -(0.1 + omega * x);  // sphere at rest, wall approaching
+  const double kn = 2.0 * pp.E_star * std::sqrt(r * delta);
+  const double expected = hertz_plane(pp.E_star, r, delta) -
+                          2.0 * std::sqrt(5.0 / 6.0) * pp.beta * std::sqrt(p.m[0] * kn) * vn;
+  EXPECT_NEAR(p.fz[0], expected, 1e-10 * expected);
+  // Rolling friction acts on the spin relative to the wall: a sphere turning with the wall feels none.
+  EXPECT_NEAR(p.tx[0], 0.0, 1e-12);
+  auto q = one_sphere({0.2 + x, 0.5, r - delta}, r, Vector3d::Zero(), tw.angular);
+  MeshContact mc2(square(), mats, kSteel);
+  mc2.set_pose(pose);
+  mc2.set_twist(tw);
+  mc2.add_forces(q, 0.0, 1e-6);
+  EXPECT_GT(std::fabs(p.ty[0]), 0.0);  // the still sphere spins relative to the wall: rolling torque
+  EXPECT_NEAR(mc2.contacts()[0].roll_torque.norm(), 0.0, 1e-15);
+}
+
 // A sphere resting on the 2-triangle square gets exactly the plane force anywhere over it: inside
 // either face, on the shared diagonal, at the shared and unshared corners, on the boundary edges.
 TEST(MeshContact, FlatTwoTriangleSquareNoDoubleCounting) {
@@ -256,16 +289,14 @@ TEST(MeshContact, WrenchEqualsMinusSumOfParticleReactions) {
   EXPECT_GT(ft, 0.01 * mc.total_normal_force());
 
   // Deterministic across thread counts: bit-identical forces with 1 thread.
-  const int nt = omp_get_max_threads();
   MeshContact a(cone, mats, kSteel), b(cone, mats, kSteel);
   for (auto* m : {&a, &b}) { m->set_pose(pose); m->set_twist(tw); }
+  a.set_threads(1);
+  b.set_threads(3);
   dem::Particles pa = p, pb = p;
   pa.clear_forces(); pb.clear_forces();
-  omp_set_num_threads(1);
   for (int s = 0; s < 3; ++s) a.add_forces(pa, s * 1e-6, 1e-6);
-  omp_set_num_threads(std::max(nt, 3));
   for (int s = 0; s < 3; ++s) b.add_forces(pb, s * 1e-6, 1e-6);
-  omp_set_num_threads(nt);
   for (size_t i = 0; i < p.size(); ++i) {
     ASSERT_EQ(pa.fx[i], pb.fx[i]);
     ASSERT_EQ(pa.tz[i], pb.tz[i]);
