@@ -3,6 +3,7 @@
 // Prints the simulated time, wall time, real-time factor and a Table-5-style summary (test-point
 // amplitude in x = half the peak-to-peak per drive cycle, mean and std over cycles; mean power).
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -87,8 +88,10 @@ int main(int argc, char** argv) {
     o.settle_s = settle;
     o.load = load;
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     const auto rec = mbd::simulate(params, o);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
     const double sim = seconds + settle;
     // Amplitude per drive cycle (half peak-to-peak of x), power mean.
     const double period = 2.0 * M_PI / params.drive_speed_rad_s;
@@ -117,8 +120,8 @@ int main(int argc, char** argv) {
     std::string element;
     const double bound = mbd::stable_step_bound(params, &element);
     std::printf("time_step_s %g stable_step_bound_s %g (%s)\n", params.dt_s, bound, element.c_str());
-    std::printf("simulated_s %.3f wall_s %.3f real_time_factor %.1f steps %ld\n", sim, wall, sim / wall,
-                std::lround(sim / params.dt_s));
+    std::printf("simulated_s %.3f wall_s %.3f real_time_factor %.1f cpu_s %.3f cpu_real_time_factor %.1f steps %ld\n",
+                sim, wall, sim / wall, cpu, sim / cpu, std::lround(sim / params.dt_s));
     std::printf("amplitude_x_mm mean %.3f std %.3f (half peak-to-peak per cycle, %zu cycles)\n", am * 1e3,
                 as * 1e3, amps.size());
     std::printf("power_kW mean %.2f std %.2f  mean_speed_rpm %.2f\n", pm / 1e3, ps / 1e3, wm * 60 / (2 * M_PI));

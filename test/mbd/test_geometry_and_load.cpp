@@ -1,0 +1,63 @@
+// Chamber profiles (closest approach in the meridian plane) and the external (particle) wrench input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/chamber_geometry.hpp"
+#include "core/config.hpp"
+#include "mbd/mechanism.hpp"
+#include "mbd/mechanism_params.hpp"
+
+namespace {
+
+TEST(ChamberGeometry, SignedDistanceToAConeProfile) {
+  core::Profile c;
+  c.z = {0.0, -1.0};
+  c.r = {0.5, 1.5};  // r = 0.5 - z: a 45 deg cone opening downwards
+  Eigen::Vector2d n;
+  // Point on the axis side at z = -0.5 (profile radius 1.0), r = 0.8: distance 0.2 cos 45.
+  EXPECT_NEAR(core::signed_distance_inside(c, {-0.5, 0.8}, &n), 0.2 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(n.x(), 1.0 / std::sqrt(2.0), 1e-12);  // outward normal (z, r) = (1, 1)/sqrt 2
+  EXPECT_NEAR(n.y(), 1.0 / std::sqrt(2.0), 1e-12);
+  // Outside (penetrating the concave) is negative.
+  EXPECT_NEAR(core::signed_distance_inside(c, {-0.5, 1.1}, nullptr), -0.1 / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(c.radius_at(-0.25), 0.75, 1e-12);
+  EXPECT_NEAR(c.length(), std::sqrt(2.0), 1e-12);
+}
+
+TEST(ChamberGeometry, ShippedChamberHasPositiveRestGaps) {
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  const auto& g = p.chamber;
+  for (std::size_t i = 0; i < g.mantle.size(); ++i) {
+    const double gap = core::signed_distance_inside(g.concave, {g.mantle.z[i], g.mantle.r[i]}, nullptr);
+    EXPECT_GT(gap, 0.015);
+    EXPECT_LT(gap, 0.1);
+  }
+}
+
+TEST(ParticleWrench, StaticForceOnTheConcaveDisplacesTheFrameByForceOverStiffness) {
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  auto mean_x = [&](bool loaded, double* ext_work) {
+    mbd::Mechanism m(p, mbd::LoadModel::Bed);
+    if (loaded) m.set_particle_wrench(mbd::BodyId::FixedCone, {2e4, 0, 0}, {0, 0, 0});
+    m.advance(6.0);  // absorber transient (0.5 Hz, damping ratio 0.5) dies out
+    double s = 0;
+    const long n = std::lround(3.0 / p.dt_s);  // 20 whole cycles at 400 rpm
+    for (long i = 0; i < n; ++i) {
+      m.step();
+      s += m.body(mbd::BodyId::FixedCone).position.x();
+    }
+    *ext_work = m.energy().external_work;
+    return s / n;
+  };
+  double w0 = 0, w1 = 0;
+  const double x0 = mean_x(false, &w0), x1 = mean_x(true, &w1);
+  // 20 kN on 320 N/mm absorbers: 62.5 mm static shift of the frame.
+  EXPECT_NEAR(x1 - x0, 2e4 / p.absorber_k_N_per_m.x(), 0.03 * 2e4 / p.absorber_k_N_per_m.x());
+  EXPECT_EQ(w0, 0.0);
+  EXPECT_NEAR(w1, 2e4 * (x1 - x0), 0.2 * 2e4 * (x1 - x0));  // work of the held force ~ F x shift
+}
+
+}  // namespace
