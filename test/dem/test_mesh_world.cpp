@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "dem/mesh_contact.hpp"
+#include "dem/revolution.hpp"
 #include "dem/world.hpp"
 
 namespace {
@@ -79,6 +80,54 @@ TEST(MeshWorld, MeshFloorMatchesWorldPlanarWall) {
   EXPECT_NEAR((a.v - b.v).norm(), 0.0, 1e-6 * V + 1e-9);
   EXPECT_NEAR((a.w - b.w).norm(), 0.0, 1e-6 * V / 0.005 + 1e-9);
   EXPECT_NEAR((a.x - b.x).norm(), 0.0, 1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+// Particles poured into a revolved bowl settle; the bowl then carries their whole weight: the mesh
+// force equals -M g (static balance through many simultaneous face/edge/vertex contacts) and no
+// particle leaks through the tessellated surface.
+TEST(MeshWorld, SettledBedInABowlWeighsItsMass) {
+  dem::WorldParams prm;
+  prm.dt = 2e-5;
+  prm.threads = 1;
+  // Strong rolling friction so the spheres stop rolling round the bowl within the simulated time.
+  prm.materials.set_pair(0, 0, 0.5, 0.15, 0.3);
+  prm.materials.set_pair(0, 1, 0.7, 0.2, 0.3);
+  dem::World world(prm);
+  const auto bowl = dem::revolve_profile({{0.0, 0.0}, {0.0, 0.03}, {0.0, 0.05}, {0.1, 0.08}}, 24,
+                                         dem::NormalSide::Inward, 0.0, "bowl");
+  auto mc = std::make_shared<dem::MeshContact>(bowl, prm.materials, 1);
+  mc->set_threads(1);
+  world.add_interaction(mc);
+  const double r = 0.006;
+  int n = 0;
+  for (int k = 0; k < 4; ++k)
+    for (int i = -3; i <= 3; ++i)
+      for (int j = -3; j <= 3; ++j) {
+        if (i * i + j * j > 9) continue;
+        const double x[3] = {i * 2.2 * r + 1e-4 * k, j * 2.2 * r, 0.012 + k * 2.2 * r};
+        world.add_particle(x, r * (1.0 - 0.05 * ((i + j + k) & 1)), 0);
+        ++n;
+      }
+  double M = 0;
+  for (double m : world.particles().m) M += m;
+  world.step(20000);  // 0.4 s
+  const auto w = mc->wrench_about(Vector3d::Zero());
+  const auto& p = world.particles();
+  double vmax = 0, zmin = 1;
+  for (size_t i = 0; i < p.size(); ++i) {
+    vmax = std::max(vmax, std::sqrt(p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]));
+    zmin = std::min(zmin, p.z[i]);
+  }
+  EXPECT_GT(n, 100);
+  EXPECT_LT(vmax, 0.02);                      // settled
+  EXPECT_GT(zmin, 0.9 * r);                   // nothing sank into or through the bottom
+  EXPECT_NEAR(w.force.z(), -M * 9.81, 0.02 * M * 9.81);
+  EXPECT_NEAR(std::hypot(w.force.x(), w.force.y()), 0.0, 0.02 * M * 9.81);
+  EXPECT_GT(mc->contacts().size(), 20u);
 }
 
 }  // namespace
