@@ -40,10 +40,13 @@ MeshContact::MeshContact(TriMesh mesh, const MaterialTable& materials, int wall_
   if (mesh_.num_triangles() == 0)
     throw std::invalid_argument("MeshContact '" + mesh_.name() + "': mesh has no triangles");
   tri_.resize(mesh_.num_triangles());
+  plane_.resize(4 * mesh_.num_triangles());
   for (size_t t = 0; t < tri_.size(); ++t) {
     const auto& tr = mesh_.triangle(static_cast<int>(t));
     tri_[t] = {mesh_.vertex(tr[0]), mesh_.vertex(tr[1]), mesh_.vertex(tr[2]),
                mesh_.normal(static_cast<int>(t))};
+    for (int k = 0; k < 3; ++k) plane_[4 * t + k] = tri_[t].n[k];
+    plane_[4 * t + 3] = -tri_[t].n.dot(tri_[t].a);
   }
 }
 
@@ -98,9 +101,10 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
       const double r = p.r[i];
       cand.clear();
       for (const int* it = range.first; it != range.second; ++it) {
-        const TriData& T = tri_[*it];
-        const double h = T.n.dot(c - T.a);
+        const double* pl = &plane_[4 * static_cast<size_t>(*it)];
+        const double h = pl[0] * c.x() + pl[1] * c.y() + pl[2] * c.z() + pl[3];
         if (h >= r || h <= -r) continue;
+        const TriData& T = tri_[*it];
         const ClosestPoint cp = closest_point_on_triangle(c, T.a, T.b, T.c);
         const double d2 = (c - cp.point).squaredNorm();
         if (d2 >= r * r) continue;

@@ -108,6 +108,7 @@ class MeshContact : public Interaction {
   int threads_ = 0;
   double grid_cell_ = 0.0;
   std::vector<TriData> tri_;
+  std::vector<double> plane_;  // per triangle n.x, n.y, n.z, -n.a (32 bytes: one cache line holds two)
   TriangleGrid grid_;
   std::optional<RegionMap> regions_;
 
