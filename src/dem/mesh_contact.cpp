@@ -88,10 +88,10 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   {
     const int tid = omp_get_thread_num();
     std::vector<MeshContactRecord>& out = per_thread_[tid];
-    std::vector<Candidate> cand;
-    std::vector<int> kept;
-    std::vector<char> claimed;
-    cand.reserve(32);
+    // Scratch kept per OpenMP worker thread between steps (no allocation in the steady state).
+    static thread_local std::vector<Candidate> cand;
+    static thread_local std::vector<int> kept;
+    static thread_local std::vector<char> claimed;
 #pragma omp for schedule(static)
     for (long i = 0; i < n; ++i) {
       const Eigen::Vector3d xw(p.x[i], p.y[i], p.z[i]);
