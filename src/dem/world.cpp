@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include <chrono>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +15,26 @@
 #include "dem/hertz_mindlin.hpp"
 
 namespace dem {
+
+namespace {
+constexpr long kMinParallel = 1024;  // below this many items a loop runs serially (OpenMP start-up costs more)
+
+// Runs body(begin, end, thread) over [0, n) in contiguous static chunks, one per thread: the split depends
+// only on n and the thread count, so results are identical run to run for a given thread count.
+template <class F>
+void chunked(int nt_req, long n, F&& body) {
+  const int nt = (nt_req > 1 && n >= kMinParallel) ? nt_req : 1;
+  if (nt == 1) {
+    body(0L, n, 0);
+    return;
+  }
+#pragma omp parallel num_threads(nt)
+  {
+    const long T = omp_get_num_threads(), t = omp_get_thread_num();
+    body(n * t / T, n * (t + 1) / T, static_cast<int>(t));
+  }
+}
+}  // namespace
 
 World::World(const WorldParams& params) : prm_(params) {
   if (!(prm_.dt > 0)) throw std::invalid_argument("dem::World: dt must be > 0 s, got " + std::to_string(prm_.dt));
@@ -26,7 +48,7 @@ World::World(const WorldParams& params) : prm_(params) {
         throw std::invalid_argument("dem::World: no pair properties for materials '" +
                                     prm_.materials.material(i).name + "' and '" + prm_.materials.material(j).name +
                                     "' (MaterialTable::set_pair)");
-  nt_ = prm_.threads > 0 ? prm_.threads : omp_get_max_threads();
+  nt_ = std::min(256, prm_.threads > 0 ? prm_.threads : omp_get_max_threads());
   skin_ = prm_.skin;
 }
 
@@ -335,8 +357,8 @@ void World::rebuild() {
         hist2_.resize(cap);
       }
     }
-#pragma omp parallel for schedule(dynamic, 256) num_threads(nt_)
-    for (std::size_t i = 0; i < n; ++i) {
+    chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
+    for (long i = ib; i < ie; ++i) {
       const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i], ri = p_.r[i];
       int cx, cy, cz;
       g.coords(g.cell_of[i], cx, cy, cz);
@@ -380,12 +402,13 @@ void World::rebuild() {
       }
       if (pass == 0) cnt_[i] = count;
     }
+    });
   }
   // the new list is ordered by owner, but within an owner by cell order; sort each owner's pairs by j so
   // the lookup above and the gather order do not depend on the grid
   npairs_ = cnt_[n];
-#pragma omp parallel for schedule(dynamic, 256) num_threads(nt_)
-  for (std::size_t i = 0; i < n; ++i) {
+  chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
+  for (long i = ib; i < ie; ++i) {
     const uint32_t s = cnt_[i], e = cnt_[i + 1];
     for (uint32_t a = s + 1; a < e; ++a) {  // insertion sort (few entries)
       const uint32_t j = pj2_[a];
@@ -400,6 +423,7 @@ void World::rebuild() {
       hist2_[b] = h;
     }
   }
+  });
   pj_.swap(pj2_);
   pi_.swap(pi2_);
   hist_.swap(hist2_);
@@ -412,12 +436,13 @@ void World::rebuild() {
   if (jref_.size() < npairs_) jref_.resize(pj_.size());
   cnt_.assign(jstart_.begin(), jstart_.end() - 1);
   for (std::size_t q = 0; q < npairs_; ++q) jref_[cnt_[pj_[q]]++] = static_cast<uint32_t>(q);
-#pragma omp parallel for schedule(static) num_threads(nt_)
-  for (std::size_t i = 0; i < n; ++i) {
-    x0_[i] = p_.x[i];
-    y0_[i] = p_.y[i];
-    z0_[i] = p_.z[i];
-  }
+  chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
+    for (long i = ib; i < ie; ++i) {
+      x0_[i] = p_.x[i];
+      y0_[i] = p_.y[i];
+      z0_[i] = p_.z[i];
+    }
+  });
   need_rebuild_ = false;
   ++nrebuild_;
 }
@@ -434,8 +459,8 @@ void World::pair_forces() {
   std::array<double, 3>* H = hist_.data();
   PairOut* O = pout_.data();
   const long np = static_cast<long>(npairs_);
-#pragma omp parallel for schedule(static) num_threads(nt_)
-  for (long q = 0; q < np; ++q) {
+  chunked(nt_, np, [&](long qb, long qe, int) {
+  for (long q = qb; q < qe; ++q) {
     const uint32_t i = PI[q], j = PJ[q];
     const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
     const double rs = r[i] + r[j];
@@ -464,15 +489,16 @@ void World::pair_forces() {
     o.ti[0] = -ai * cx + c.troll[0]; o.ti[1] = -ai * cy + c.troll[1]; o.ti[2] = -ai * cz + c.troll[2];
     o.tj[0] = -aj * cx - c.troll[0]; o.tj[1] = -aj * cy - c.troll[1]; o.tj[2] = -aj * cz - c.troll[2];
   }
+  });
 }
 
 void World::bond_forces() {
   const long nb = static_cast<long>(bonds_.size());
   if (nb == 0) return;
   const double dt = prm_.dt;
-  long nbroken = 0;
-#pragma omp parallel for schedule(static) num_threads(nt_) reduction(+ : nbroken)
-  for (long b = 0; b < nb; ++b) {
+  std::array<long, 256> nbr{};
+  chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
+  for (long b = bb; b < be; ++b) {
     Bond& bd = bonds_[b];
     BondOutSlot& o = bout_[b];
     if (!bd.alive) {
@@ -495,8 +521,11 @@ void World::bond_forces() {
     o.sigma = out.sigma;
     o.tau = out.tau;
     o.code = code;
-    if (code) ++nbroken;
+    if (code) ++nbr[th];
   }
+  });
+  long nbroken = 0;
+  for (long c : nbr) nbroken += c;
   if (nbroken == 0) return;
   for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
     if (!bout_[b].code) continue;
@@ -528,11 +557,9 @@ void World::gather_forces() {
   const MaterialTable& mt = prm_.materials;
   const bool have_bonds = !bonds_.empty();
   wforce_thr_.assign(static_cast<std::size_t>(nt_) * nw * 3, 0.0);
-#pragma omp parallel num_threads(nt_)
-  {
-    double* wf = wforce_thr_.data() + static_cast<std::size_t>(omp_get_thread_num()) * nw * 3;
-#pragma omp for schedule(static)
-    for (long i = 0; i < n; ++i) {
+  chunked(nt_, n, [&](long ib, long ie, int th) {
+    double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
+    for (long i = ib; i < ie; ++i) {
       const double mi = p_.m[i];
       double f[3] = {mi * g[0], mi * g[1], mi * g[2]};
       double t[3] = {0, 0, 0};
@@ -585,7 +612,7 @@ void World::gather_forces() {
       p_.fx[i] = f[0]; p_.fy[i] = f[1]; p_.fz[i] = f[2];
       p_.tx[i] = t[0]; p_.ty[i] = t[1]; p_.tz[i] = t[2];
     }
-  }
+  });
   for (std::size_t k = 0; k < nw; ++k) {
     double s[3] = {0, 0, 0};
     for (int th = 0; th < nt_; ++th)
@@ -607,6 +634,12 @@ void World::step(long nsteps) {
   prepare();
   const long n = static_cast<long>(p_.size());
   const double dt = prm_.dt, hdt = 0.5 * dt;
+  using clk = std::chrono::steady_clock;
+  auto lap = [this](int k, clk::time_point& t) {
+    const auto now = clk::now();
+    phase_s_[k] += std::chrono::duration<double>(now - t).count();
+    t = now;
+  };
   double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
   double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
   double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
@@ -615,11 +648,13 @@ void World::step(long nsteps) {
   const double* im = p_.inv_m.data(); const double* iI = p_.inv_I.data();
   const char* fixed = p_.fixed.data();
   for (long s = 0; s < nsteps; ++s) {
-    double maxd2 = 0;
+    auto t0 = clk::now();
     const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
     // half kick + drift
-#pragma omp parallel for schedule(static) num_threads(nt_) reduction(max : maxd2)
-    for (long i = 0; i < n; ++i) {
+    std::array<double, 256> mx{};
+    chunked(std::min(nt_, 256), n, [&](long ib, long ie, int th) {
+    double maxd2 = 0;
+    for (long i = ib; i < ie; ++i) {
       if (!fixed[i]) {
         vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
         wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
@@ -630,20 +665,33 @@ void World::step(long nsteps) {
       // NaN compares false: force a rebuild, whose grid reports the non-finite particle
       maxd2 = std::max(maxd2, d2 == d2 ? d2 : std::numeric_limits<double>::infinity());
     }
+    mx[th] = maxd2;
+    });
+    double maxd2 = 0;
+    for (double v : mx) maxd2 = std::max(maxd2, v);
     for (PlanarWall& w : walls_)
       for (int a = 0; a < 3; ++a) w.p[a] += dt * w.v[a];
+    auto t1 = clk::now();
+    phase_s_[0] += std::chrono::duration<double>(t1 - t0).count();
     if (need_rebuild_ || 4.0 * maxd2 > skin_ * skin_ || skin_ < 0) rebuild();
+    lap(1, t1);
     pair_forces();
+    lap(2, t1);
     bond_forces();
+    lap(3, t1);
     gather_forces();
+    lap(4, t1);
     t_ += dt;
     for (auto& ia : interactions_) ia->add_forces(p_, t_, dt);
-#pragma omp parallel for schedule(static) num_threads(nt_)
-    for (long i = 0; i < n; ++i) {
+    lap(5, t1);
+    chunked(nt_, n, [&](long ib, long ie, int) {
+    for (long i = ib; i < ie; ++i) {
       if (fixed[i]) continue;
       vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
       wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
     }
+    });
+    lap(6, t1);
     ++nstep_;
   }
 }

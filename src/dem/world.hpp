@@ -97,6 +97,9 @@ class World {
   // Memory of the engine's arrays (capacity) per particle and per intact bond, for the benchmark.
   double bytes_per_particle() const;
   double bytes_per_bond() const;
+  // Wall-clock seconds spent per phase since construction: 0 kick+drift, 1 neighbour rebuild, 2 pair forces,
+  // 3 bond forces, 4 gather+walls, 5 interactions, 6 final kick.
+  const std::array<double, 7>& phase_seconds() const { return phase_s_; }
 
  private:
   struct PairOut {
@@ -149,6 +152,7 @@ class World {
   std::vector<BondBreak> breaks_;
 
   std::vector<std::shared_ptr<Interaction>> interactions_;
+  std::array<double, 7> phase_s_{};
 };
 
 }  // namespace dem

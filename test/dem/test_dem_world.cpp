@@ -1,0 +1,169 @@
+// World-level behaviour: determinism, moving walls and wall forces, insertion/removal with stable ids,
+// neighbour-list correctness against brute force, input validation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "dem/world.hpp"
+
+namespace {
+
+// A poured polydisperse packing in a box with two bonded clusters, 2 threads.
+std::vector<double> run_packing(int threads, long steps) {
+  dem::WorldParams wp;
+  wp.dt = 1e-6;
+  wp.threads = threads;
+  dem::World w(wp);
+  const double lo[3] = {0, 0, 0}, hi[3] = {0.02, 0.02, 0.1};
+  w.add_box(lo, hi, 1, false);
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> U(0, 1);
+  // 8 x 8 x 10 grid of 2 mm spacing, radii 0.6-0.95 mm, jittered, falling onto the floor
+  for (int k = 0; k < 640; ++k) {
+    const double r = 0.6e-3 + 0.35e-3 * U(rng);
+    const double x[3] = {0.003 + 0.002 * (k % 8) + 0.1e-3 * U(rng), 0.003 + 0.002 * ((k / 8) % 8) + 0.1e-3 * U(rng),
+                         0.0011 + 0.002 * (k / 64)};
+    const double v[3] = {0.1 * (U(rng) - 0.5), 0.1 * (U(rng) - 0.5), -1.0};
+    w.add_particle(x, r, 0, v);
+  }
+  dem::BondParams bp;
+  bp.kn = 100e9; bp.kt = 40e9; bp.sigma_c = 25e6; bp.tau_c = 9e6;
+  w.bond_within(0.5e-3, bp, 0, 100);
+  w.step(steps);
+  const auto& p = w.particles();
+  std::vector<double> out;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out.push_back(p.x[i]); out.push_back(p.y[i]); out.push_back(p.z[i]);
+    out.push_back(p.wx[i]);
+  }
+  out.push_back(w.wall(4).force[2]);
+  out.push_back(static_cast<double>(w.n_contacts()));
+  out.push_back(static_cast<double>(w.breaks().size()));
+  return out;
+}
+
+TEST(World, SameThreadCountGivesBitwiseIdenticalResults) {
+  const auto a = run_packing(2, 6000), b = run_packing(2, 6000);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k + 3 < a.size(); k += 4) {  // a sane state: finite, inside the box
+    ASSERT_TRUE(std::isfinite(a[k]) && std::isfinite(a[k + 1]) && std::isfinite(a[k + 2]));
+    ASSERT_GT(a[k], 0.0); ASSERT_LT(a[k], 0.02); ASSERT_GT(a[k + 2], 0.0);
+  }
+  EXPECT_GT(a[a.size() - 2], 20.0);  // a dense, colliding state (contact count)
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+  // the pair forces are gathered per particle in a fixed order, so 1 thread gives the same positions too
+  const auto c = run_packing(1, 6000);
+  for (std::size_t k = 0; k + 3 < a.size(); ++k) ASSERT_EQ(a[k], c[k]) << k;
+}
+
+// Neighbour list + Verlet skin must not miss contacts: compare the contact count with brute force while the
+// particles move.
+TEST(World, NeighbourListFindsEveryContact) {
+  dem::WorldParams wp;
+  wp.dt = 1e-6;
+  wp.threads = 2;
+  dem::World w(wp);
+  const double lo[3] = {0, 0, 0}, hi[3] = {0.02, 0.02, 0.05};
+  w.add_box(lo, hi, 1);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int k = 0; k < 800; ++k) {
+    const double r = 0.4e-3 + 0.5e-3 * U(rng);
+    const double x[3] = {0.001 + 0.018 * U(rng), 0.001 + 0.018 * U(rng), 0.001 + 0.048 * U(rng)};
+    const double v[3] = {U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5};
+    w.add_particle(x, r, 0, v);
+  }
+  for (int round = 0; round < 5; ++round) {
+    w.step(300);
+    const auto& p = w.particles();
+    std::size_t brute = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (std::size_t j = i + 1; j < p.size(); ++j) {
+        const double dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dz = p.z[i] - p.z[j], rs = p.r[i] + p.r[j];
+        if (dx * dx + dy * dy + dz * dz < rs * rs) ++brute;
+      }
+    EXPECT_EQ(w.n_contacts(), brute) << "round " << round;
+  }
+  EXPECT_GT(w.n_rebuilds(), 1);
+}
+
+// A platen moving at constant speed v onto a sphere resting on a fixed floor: the sphere moves at v/2, each
+// contact closes at v/2 and carries the Hertz force of its overlap plus the Eq. 16 damping force
+// 2 sqrt(5/6) xi sqrt(m k_n) v/2 (2.7 % of the total here, so the check sees the damping law too).
+TEST(World, MovingWallForceMatchesHertz) {
+  dem::WorldParams wp;
+  wp.dt = 1e-7;
+  wp.gravity = {{0, 0, 0}};
+  wp.threads = 1;
+  dem::World w(wp);
+  const double r = 5e-3;
+  const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, top[3] = {0, 0, 2 * r}, down[3] = {0, 0, -1};
+  w.add_plane(o, up, 1);
+  const int platen = w.add_plane(top, down, 1);
+  const double x[3] = {0, 0, r};
+  w.add_particle(x, r, 0);
+  const double vp[3] = {0, 0, -0.01};
+  w.set_wall_velocity(platen, vp);
+  w.step(20000);  // platen moved 20 um
+  const double total = 0.01 * w.time();
+  const double dz_each = 0.5 * total;
+  const dem::PairProps& pp = w.materials().pair(0, 1);
+  const double m = w.particles().m[0];
+  const double kn = 2 * pp.E_star * std::sqrt(r * dz_each);
+  const double F = 4.0 / 3.0 * pp.E_star * std::sqrt(r) * std::pow(dz_each, 1.5) +
+                   2 * std::sqrt(5.0 / 6.0) * pp.beta * std::sqrt(m * kn) * 0.005;
+  EXPECT_NEAR(w.wall(platen).force[2], F, 0.005 * F);
+  EXPECT_NEAR(w.wall(0).force[2], -F, 0.005 * F);
+  EXPECT_NEAR(w.wall(platen).p[2], 2 * r - total, 1e-12);
+}
+
+TEST(World, InsertionAndRemovalKeepIdsAndBonds) {
+  dem::WorldParams wp;
+  wp.dt = 1e-7;
+  wp.gravity = {{0, 0, 0}};
+  dem::World w(wp);
+  const double r = 1e-3;
+  for (int k = 0; k < 6; ++k) {
+    const double x[3] = {2 * r * k, 0, 0};
+    w.add_particle(x, r, 0);
+  }
+  dem::BondParams bp;
+  bp.kn = 400e9; bp.kt = 160e9; bp.sigma_c = 25e6; bp.tau_c = 9e6;
+  EXPECT_EQ(w.bond_within(1e-9, bp), 5u);
+  w.step(10);
+  const uint64_t id3 = w.particles().id[3];
+  w.remove_particles_by_id({w.particles().id[1]});
+  EXPECT_EQ(w.particles().size(), 5u);
+  EXPECT_EQ(w.index_of(id3), 2);
+  EXPECT_EQ(w.n_bonds_intact(), 3u);  // bonds 0-1 and 1-2 went with particle 1
+  EXPECT_TRUE(w.breaks().empty());    // removal is not breakage
+  // a new cluster inserted while running gets fresh ids and its own bonds
+  const std::size_t first = w.particles().size();
+  for (int k = 0; k < 3; ++k) {
+    const double x[3] = {2 * r * k, 0.01, 0};
+    w.add_particle(x, r, 0);
+  }
+  EXPECT_EQ(w.bond_within(1e-9, bp, first), 2u);
+  EXPECT_EQ(w.particles().id[first], 6u);
+  w.step(10);
+  EXPECT_EQ(w.n_bonds_intact(), 5u);
+  EXPECT_EQ(w.index_of(1), -1);
+  EXPECT_LT(w.kinetic_energy(), 1e-20);
+}
+
+TEST(World, BadInputIsRejected) {
+  dem::WorldParams wp;
+  wp.dt = -1;
+  EXPECT_THROW(dem::World{wp}, std::invalid_argument);
+  wp.dt = 1e-7;
+  dem::World w(wp);
+  const double x[3] = {0, 0, 0}, zero[3] = {0, 0, 0};
+  EXPECT_THROW(w.add_particle(x, -1e-3, 0), std::invalid_argument);
+  EXPECT_THROW(w.add_particle(x, 1e-3, 7), std::invalid_argument);
+  EXPECT_THROW(w.add_plane(x, zero, 1), std::invalid_argument);
+  EXPECT_THROW(w.remove_particles(std::vector<char>(3, 0)), std::invalid_argument);
+}
+
+}  // namespace
