@@ -50,6 +50,7 @@ Dataset prepare_dataset(const Recording& rec, const std::string& label, int K) {
   d.label = label;
   d.rec = rec;
   d.mean_speed = rec.mean_speed_rad_s();
+  d.setpoint = d.mean_speed;
   const double periods = d.mean_speed * rec.duration_s() / (2 * kPi);
   if (periods < 3.0)
     throw std::invalid_argument(rec.source + ": " + label + " spans " + std::to_string(periods) +

@@ -25,6 +25,7 @@ struct Dataset {
   Recording rec;
   double omega = 0;                          // fundamental, rad/s (refined from speed_rad_s)
   double mean_speed = 0;                     // mean of speed_rad_s
+  double setpoint = 0;                       // drive set point the model runs at, rad/s
   ChannelHarmonics H;                        // harmonics of the recording
   std::array<double, kNumChannels> sigma2{};     // noise variance per channel (non-harmonic remainder)
   std::array<double, kNumChannels> rss_rest{};   // sum of squares of the non-harmonic remainder

@@ -64,7 +64,7 @@ struct Evaluator {
     double s = 0;
     for (const auto& d : ds) {
       try {
-        const auto& m = harmonics(effect, value, d.mean_speed);
+        const auto& m = harmonics(effect, value, d.setpoint);
         s += harmonic_cost(d, m, align(d, m));
       } catch (const std::exception& e) {
         ++failures;
@@ -78,7 +78,7 @@ struct Evaluator {
                                       bool aligned = true) {
     std::vector<Comparison> out;
     for (const auto& d : ds) {
-      const auto& m = harmonics(effect, value, d.mean_speed);
+      const auto& m = harmonics(effect, value, d.setpoint);
       Alignment a = align(d, m, aligned, aligned);
       out.push_back(compare(d, m, a, d.label));
     }
@@ -133,6 +133,12 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
       (i == 0 ? r.train : r.heldout).push_back(std::move(d));
     }
   }
+  for (auto* set : {&r.train, &r.heldout})
+    for (auto& d : *set)
+      if (opt.setpoint_whole_rpm) {
+        const double rpm = 2 * 3.14159265358979323846 / 60;
+        d.setpoint = std::max(1.0, std::round(d.mean_speed / rpm)) * rpm;
+      }
   Evaluator ev{model, opt, {}, 0};
 
   // Locate: unchanged model, first without and then with the non-physical alignment.

@@ -17,7 +17,7 @@ struct EffectSpec {
 };
 
 // Runs the model with `effect` ("none" or a candidate name) whose main parameter is `value`, the drive
-// set so that the mean measured speed is `speed_rad_s`; returns >= duration_s of steady state.
+// set point at `speed_rad_s`; returns >= duration_s of steady state.
 using ModelFn = std::function<Recording(const std::string& effect, double value, double speed_rad_s,
                                         double duration_s)>;
 
@@ -29,6 +29,9 @@ struct DiagnosisOptions {
   double bic_threshold = 10.0;     // a candidate must lower BIC by this much (strong evidence, Kass-Raftery)
   double min_explained = 0.5;      // ... and remove this fraction of the structured residual, held out too
   double z_significance = 5.0;     // chi-square test of the residual against noise, in normal sigmas
+  // Drive set point of each recording: its mean speed rounded to whole rpm (plant drives are set in
+  // whole rpm; what is left is speed droop under load), or the mean speed itself (false).
+  bool setpoint_whole_rpm = true;
 };
 
 struct CandidateResult {

@@ -84,6 +84,15 @@ std::string diagnosis_json(const DiagnosisResult& r) {
         << ", \"displacement_gain\": " << num(c.alignment.gain) << "}";
       first = false;
     }
+  o << "],\n  \"drive\": [";
+  first = true;
+  for (const auto* set : {&r.train, &r.heldout})
+    for (const auto& d : *set) {
+      o << (first ? "" : ", ") << "{\"dataset\": \"" << esc(d.label) << "\", \"mean_speed_rad_s\": "
+        << num(d.mean_speed) << ", \"setpoint_rad_s\": " << num(d.setpoint) << ", \"fundamental_rad_s\": "
+        << num(d.omega) << "}";
+      first = false;
+    }
   o << "],\n  \"located\": [";
   for (std::size_t i = 0; i < r.located.size() && i < 15; ++i) {
     const auto& m = r.located[i];

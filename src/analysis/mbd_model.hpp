@@ -20,8 +20,11 @@ std::vector<EffectSpec> mbd_candidates();
 // base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns
 // base with every effect off. Throws std::invalid_argument for an unknown effect name.
 mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value);
-// ModelFn over mbd::simulate. With motor droop the measured speed is below the set point
-// (speed = w0 - droop torque): w0 is chosen so that the simulated mean speed equals the requested one.
+// base driven at `speed_rad_s`, the time step scaled to keep the drive rotation per step (w dt) of the
+// base config (the 400 and 600 rpm configs differ so), never above the base step.
+mbd::MechanismParams at_speed(const mbd::MechanismParams& base, double speed_rad_s);
+// ModelFn over mbd::simulate, drive set point = the requested speed (with motor droop the simulated
+// speed falls below it, speed = w0 - droop torque, as on the plant).
 ModelFn make_mbd_model(const mbd::MechanismParams& base, const MbdModelOptions& opt = {});
 
 }  // namespace analysis

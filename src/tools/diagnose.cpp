@@ -36,6 +36,8 @@ namespace {
 const char* kUsage =
     "usage: diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR\n"
     "                [--model-seconds S (default 1)] [--settle-s S (default 4)] [--no-plots]\n"
+    "                [--setpoint whole-rpm|measured (drive set point: mean speed rounded to whole rpm,\n"
+    "                 default, so that droop shows; or the mean speed itself)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
     "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n";
 
@@ -142,7 +144,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> recs;
   std::string config, out;
   double model_seconds = 1.0, settle_s = 4.0;
-  bool plots = true;
+  bool plots = true, whole_rpm = true;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -165,6 +167,12 @@ int main(int argc, char** argv) {
       else if (a == "--model-seconds") model_seconds = number(0.3, 60);
       else if (a == "--settle-s") settle_s = number(0, 60);
       else if (a == "--no-plots") plots = false;
+      else if (a == "--setpoint") {
+        const std::string v = value();
+        if (v != "whole-rpm" && v != "measured")
+          throw std::invalid_argument("--setpoint " + v + ": accepted whole-rpm (default) or measured");
+        whole_rpm = v == "whole-rpm";
+      }
       else if (a == "-h" || a == "--help") { std::cout << kUsage; return 0; }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
@@ -184,6 +192,7 @@ int main(int argc, char** argv) {
     mo.settle_s = settle_s;
     DiagnosisOptions opt;
     opt.model_seconds = model_seconds;
+    opt.setpoint_whole_rpm = whole_rpm;
     std::cerr << "diagnose: " << recordings.size() << " recording(s), model " << config << "\n";
     DiagnosisResult r = diagnose(recordings, make_mbd_model(base, mo), mbd_candidates(), opt);
 

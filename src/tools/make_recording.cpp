@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     core::ConfigNode root = core::ConfigNode::load_file(config);
     mbd::MechanismParams p = mbd::load_mechanism_params(root.child("mbd"));
     p = with_effect(p, effect, value);
-    if (speed_rpm > 0) p.drive_speed_rad_s = speed_rpm * core::units::rpm;
+    if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
     mbd::validate(p);
     mbd::SimOptions so;
     so.duration_s = seconds;

@@ -11,6 +11,13 @@ using namespace analysis;
 namespace {
 const double kW400 = 400 * 2 * M_PI / 60, kW600 = 600 * 2 * M_PI / 60;
 
+// The stand-in's drive speed argument is the mean measured speed (its droop keeps the mean).
+DiagnosisOptions options() {
+  DiagnosisOptions o;
+  o.setpoint_whole_rpm = false;
+  return o;
+}
+
 ModelFn stand_in() {
   return [](const std::string& effect, double value, double speed, double seconds) {
     return diagtest::synthetic_run(effect, value, speed, seconds);
@@ -29,7 +36,7 @@ DiagnosisResult run_case(const std::string& effect, double value, std::uint64_t 
     recs.push_back(apply_sensor_errors(diagtest::synthetic_run(effect, value, w, 2.0), e));
     recs.back().source = "rec" + std::to_string(++i);
   }
-  return diagnose(recs, stand_in(), default_candidates());
+  return diagnose(recs, stand_in(), default_candidates(), options());
 }
 }  // namespace
 
@@ -82,7 +89,7 @@ TEST(DiagSynthetic, UnmodelledMismatchIsUnexplained) {
     recs.push_back(apply_sensor_errors(r, e));
     recs.back().source = "rec" + std::to_string(++i);
   }
-  DiagnosisResult r = diagnose(recs, stand_in(), default_candidates());
+  DiagnosisResult r = diagnose(recs, stand_in(), default_candidates(), options());
   EXPECT_EQ(r.effect, "unexplained") << r.reason;
   ASSERT_FALSE(r.located.empty());
   EXPECT_EQ(r.located[0].channel, "z_m");
