@@ -199,11 +199,15 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
       hits.push_back({P, n, 1.0 - std::max(g, 0.0) / s.g_ref, -g_dot / s.g_ref, &s});
     }
     const int active = static_cast<int>(hits.size());
+    const double inv_I2 = M.inv_inertia_world.norm(), inv_I1 = C.inv_inertia_world.norm();  // >= largest eigenvalue
     for (int i = 0; i < active; ++i) {
       const Hit& h = hits[i];
       const double A = h.s->area;
       const double p_el = bp.modulus_Pa * power(h.e, bp.exponent);
-      const double p_v = h.e_dot > 0 ? bp.viscosity_Pa_s * h.e_dot : 0.0;  // crushing: closing only
+      // Crushing loss while the gap closes (none while it opens), faded in over the first 5 % of strain
+      // so a patch engages without a force jump (a jump per patch gives a ripple at azimuth_samples x f).
+      const double fade = std::min(1.0, h.e / 0.05);
+      const double p_v = h.e_dot > 0 ? bp.viscosity_Pa_s * h.e_dot * fade : 0.0;
       const double fn_el = A * p_el, fn_v = A * p_v;
       const Eigen::Vector3d r2 = h.P - M.x, r1 = h.P - C.x;
       const Eigen::Vector3d vrel = (M.v + M.w.cross(r2)) - (C.v + C.w.cross(r1));
@@ -213,7 +217,9 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
       if (vtn > 1e-12 && bp.friction > 0) {
         const Eigen::Vector3d t = vt / vtn;
         double mag = friction_coefficient_eq14(vtn, bp.friction, bp.friction, bp.v_s, bp.v_d) * (fn_el + fn_v);
-        const double cap = effective_mass(M, r2, C, r1, t) * vtn / dt / active;
+        // Cheap lower bound of the pair's effective mass (largest inverse inertias): stick regime.
+        const double inv = M.inv_mass + r2.squaredNorm() * inv_I2 + C.inv_mass + r1.squaredNorm() * inv_I1;
+        const double cap = vtn / (inv * dt * active);
         mag = std::max(mag, -cap);
         ft = mag * t;
       }
@@ -221,7 +227,7 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
       out.bed_on_mantle.add(r2, f_el, f_d);
       out.bed_on_concave.add(r1, -f_el, -f_d);
       out.bed_normal_force += fn_el + fn_v;
-      out.bed_potential += A * h.s->g_ref * bp.modulus_Pa * std::pow(h.e, bp.exponent + 1.0) / (bp.exponent + 1.0);
+      out.bed_potential += A * h.s->g_ref * p_el * h.e / (bp.exponent + 1.0);
     }
   }
   auto sum = [](const Wrench& a, const Wrench& b) {

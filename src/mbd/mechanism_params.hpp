@@ -34,7 +34,7 @@ struct ContactParams {
 // smaller than engage_ratio * g_rest (g_rest: gap of the untilted assembly at that height):
 //   strain e = 1 - g / (engage_ratio g_rest),  p = modulus e^exponent + viscosity * e_dot (closing only)
 struct BedParams {
-  double modulus_Pa = 10e6;
+  double modulus_Pa = 8e6;
   double exponent = 1.5;
   double engage_ratio = 0.9;
   double viscosity_Pa_s = 1.9e5;   // Pa per unit strain rate (1/s)
@@ -84,7 +84,7 @@ struct MechanismParams {
   double drive_max_torque_Nm = 2e5;
   // Bodies B1..B6 (Table 1 masses; positions, inertias: config reasoning)
   BodyParams fixed_cone, floating_cone, vibrator, globe_bearing, connecting_shaft, drive_shaft;
-  double vibrator_static_moment_kg_m = 124.0;  // mass x eccentricity (calibrated at 400 rpm)
+  double vibrator_static_moment_kg_m = 119.0;  // mass x eccentricity (calibrated at 400 rpm)
   double vibrator_axis_z_m = -1.3;            // O3: vibrator centre on the floating-cone axis
   double globe_bearing_z_m = -1.15;           // O2 (and the plane of O4)
   double ball_pin_z_m = -1.45;                // O5 on the vibrator axis

@@ -6,6 +6,7 @@
 #include <ctime>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -16,7 +17,7 @@
 
 namespace {
 void usage() {
-  std::cerr << "usage: mbd_bench --config FILE [--seconds S] [--settle S] [--load bed|none] [--speed-rpm N]\n";
+  std::cerr << "usage: mbd_bench --config FILE [--seconds S] [--settle S] [--load bed|none] [--speed-rpm N] [--csv OUT.csv] [--diag]\n";
 }
 }  // namespace
 
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   double seconds = 10.0, settle = 4.0, rpm = -1;
   double static_moment = -1, viscosity = -1, modulus = -1;
   bool diag = false;
+  std::string csv;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -43,6 +45,7 @@ int main(int argc, char** argv) {
     else if (a == "--bed-viscosity-kPa-s") viscosity = std::stod(next());
     else if (a == "--bed-modulus-MPa") modulus = std::stod(next());
     else if (a == "--diag") diag = true;
+    else if (a == "--csv") csv = next();
     else {
       usage();
       return 2;
@@ -93,6 +96,15 @@ int main(int argc, char** argv) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
     const double sim = seconds + settle;
+    if (!csv.empty()) {  // recording in the plant-CSV layout of DESIGN.md
+      std::ofstream f(csv);
+      f << "t_s,x_m,y_m,z_m,power_W,speed_rad_s\n";
+      f.precision(9);
+      for (std::size_t k = 0; k < rec.t_s.size(); ++k)
+        f << rec.t_s[k] << ',' << rec.x_m[k] << ',' << rec.y_m[k] << ',' << rec.z_m[k] << ',' << rec.power_W[k] << ','
+          << rec.speed_rad_s[k] << '\n';
+      if (!f) throw std::runtime_error("cannot write " + csv);
+    }
     // Amplitude per drive cycle (half peak-to-peak of x), power mean.
     const double period = 2.0 * M_PI / params.drive_speed_rad_s;
     std::vector<double> amps;
