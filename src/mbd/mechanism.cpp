@@ -128,6 +128,7 @@ struct Mechanism::Impl {
 
 void Mechanism::Impl::build() {
   init_ode();
+  dAllocateODEDataForThread(dAllocateMaskAll);  // ODE needs per-thread data (callers may run in threads)
   world = dWorldCreate();
   dWorldSetGravity(world, 0, 0, -p.gravity_m_s2);
   dWorldSetERP(world, kErp);

@@ -1,6 +1,8 @@
 #include "mbd/simulate.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "mbd/mechanism.hpp"
@@ -42,6 +44,20 @@ Recording simulate(const MechanismParams& params, const SimOptions& o) {
     if (i % every == 0) sample();
   }
   return r;
+}
+
+std::vector<double> cycle_amplitudes(const std::vector<double>& t, const std::vector<double>& x, double period) {
+  if (t.size() != x.size()) throw std::invalid_argument("mbd::cycle_amplitudes: t and x differ in length");
+  if (!(period > 0)) throw std::invalid_argument("mbd::cycle_amplitudes: period must be > 0");
+  std::vector<double> out;
+  std::size_t i = 0;
+  if (t.empty()) return out;
+  for (double t0 = t.front(); t0 + period <= t.back() + 1e-12; t0 += period) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (; i < t.size() && t[i] < t0 + period - 1e-12; ++i) lo = std::min(lo, x[i]), hi = std::max(hi, x[i]);
+    if (hi >= lo) out.push_back(0.5 * (hi - lo));
+  }
+  return out;
 }
 
 }  // namespace mbd

@@ -21,4 +21,8 @@ struct Recording {
 
 Recording simulate(const MechanismParams& params, const SimOptions& options);
 
+// Test-point amplitude as used for Table 5 throughout the project: HALF the peak-to-peak of the signal
+// within each whole drive cycle (period_s), one value per cycle (Table 5 reports their mean and std).
+std::vector<double> cycle_amplitudes(const std::vector<double>& t_s, const std::vector<double>& x, double period_s);
+
 }  // namespace mbd

@@ -105,17 +105,9 @@ int main(int argc, char** argv) {
           << rec.speed_rad_s[k] << '\n';
       if (!f) throw std::runtime_error("cannot write " + csv);
     }
-    // Amplitude per drive cycle (half peak-to-peak of x), power mean.
+    // Amplitude per drive cycle (half peak-to-peak of x, mbd::cycle_amplitudes), power mean.
     const double period = 2.0 * M_PI / params.drive_speed_rad_s;
-    std::vector<double> amps;
-    double t_start = 0;
-    std::size_t i = 0;
-    while (t_start + period <= rec.t_s.back() + 1e-9) {
-      double lo = 1e9, hi = -1e9;
-      for (; i < rec.t_s.size() && rec.t_s[i] < t_start + period; ++i) lo = std::min(lo, rec.x_m[i]), hi = std::max(hi, rec.x_m[i]);
-      amps.push_back(0.5 * (hi - lo));
-      t_start += period;
-    }
+    const std::vector<double> amps = mbd::cycle_amplitudes(rec.t_s, rec.x_m, period);
     double am = 0, as = 0, pm = 0, ps = 0, wm = 0;
     for (double a : amps) am += a;
     am /= amps.size();

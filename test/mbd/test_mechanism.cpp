@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <complex>
+#include <thread>
 
 #include "core/config.hpp"
 #include "mbd/mechanism.hpp"
@@ -27,25 +28,12 @@ double harmonic(const std::vector<double>& t, const std::vector<double>& x, doub
   return 2.0 * std::abs(s) / x.size();
 }
 
-double mean(const std::vector<double>& x) {
-  double m = 0;
-  for (double v : x) m += v;
-  return m / x.size();
-}
-
-// Half peak-to-peak of x per drive cycle, averaged over the cycles.
-double amplitude(const mbd::Recording& r, double f) {
-  const double T = 1.0 / f;
-  double sum = 0;
-  int n = 0;
-  for (double t0 = 0; t0 + T <= r.t_s.back(); t0 += T) {
-    double lo = 1e9, hi = -1e9;
-    for (std::size_t i = 0; i < r.t_s.size(); ++i)
-      if (r.t_s[i] >= t0 && r.t_s[i] < t0 + T) lo = std::min(lo, r.x_m[i]), hi = std::max(hi, r.x_m[i]);
-    sum += 0.5 * (hi - lo);
-    ++n;
-  }
-  return sum / n;
+TEST(Mechanism, CycleAmplitudeIsHalfPeakToPeak) {
+  std::vector<double> t, x;
+  for (int i = 0; i < 1000; ++i) t.push_back(i * 1e-3), x.push_back(0.003 * std::sin(2 * M_PI * 5 * i * 1e-3) + 0.01);
+  const auto a = mbd::cycle_amplitudes(t, x, 0.2);
+  ASSERT_EQ(a.size(), 4u);  // whole 0.2 s cycles within 0.999 s
+  for (double v : a) EXPECT_NEAR(v, 0.003, 1e-6);
 }
 
 TEST(Mechanism, ConstraintErrorBoundedOverLongRun) {
@@ -104,6 +92,29 @@ TEST(Mechanism, PowerBalanceOverWholeCycles) {
                 dE, 100 * (W - D - dE) / W);
     EXPECT_GT(W, 1e4) << "drive work over 20 cycles, J";
     EXPECT_NEAR(W, D + dE, 0.01 * W) << "load " << int(model) << ": W " << W << " D " << D << " dE " << dE;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Mechanism, DeterministicAndThreadSafe) {
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  mbd::SimOptions o;
+  o.duration_s = 0.5;
+  o.settle_s = 1.0;
+  const auto a = mbd::simulate(p, o);
+  mbd::Recording b, c;
+  std::thread t1([&] { b = mbd::simulate(p, o); });
+  std::thread t2([&] { c = mbd::simulate(p, o); });
+  t1.join();
+  t2.join();
+  ASSERT_EQ(a.x_m.size(), b.x_m.size());
+  for (std::size_t i = 0; i < a.x_m.size(); ++i) {
+    ASSERT_EQ(a.x_m[i], b.x_m[i]) << i;
+    ASSERT_EQ(a.power_W[i], c.power_W[i]) << i;
   }
 }
 
