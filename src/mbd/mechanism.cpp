@@ -443,6 +443,17 @@ BodyState Mechanism::body(BodyId id) const {
   return s;
 }
 
+Eigen::Isometry3d Mechanism::liner_pose(BodyId id) const {
+  if (id != BodyId::FloatingCone && id != BodyId::FixedCone)
+    throw std::invalid_argument(std::string("mbd: no liner on ") + body_name(id));
+  const int i = static_cast<int>(id);
+  const double com_z = id == BodyId::FixedCone ? impl_->p.fixed_cone.com_z_m : impl_->p.floating_cone.com_z_m;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = impl_->rot(i);
+  T.translation() = impl_->pos(i) + impl_->rot(i) * Eigen::Vector3d(0, 0, -com_z);
+  return T;
+}
+
 TestPointState Mechanism::test_point() const {
   TestPointState s;
   const Eigen::Matrix3d R1 = impl_->rot(0);

@@ -82,11 +82,16 @@ class Mechanism {
   const MechanismParams& params() const;
 
   BodyState body(BodyId id) const;
+  // Pose of a liner frame in the world (core/chamber_geometry.hpp: origin at O1 of the untilted
+  // assembly, z along the body axis): FloatingCone -> mantle profile frame, FixedCone -> concave.
+  // Liner meshes built from the (z, r) profiles are placed with this transform.
+  Eigen::Isometry3d liner_pose(BodyId id) const;
   TestPointState test_point() const;
   DriveState drive() const;
   double nutation_angle() const;  // rad, angle between the floating-cone axis and the fixed-cone axis
   double mantle_spin() const;     // rad/s, floating cone about its own axis relative to the fixed cone
-  double min_gap() const;         // m, closest approach of mantle and concave (negative = indentation)
+  double min_gap() const;  // m, closest approach of mantle and concave (negative = indentation); while the
+                           // cones are certainly apart this is a cheap lower bound (no search is run)
   double constraint_error() const;  // m: max joint anchor mismatch (angles x 1 m), see mechanism.cpp
   double bed_force() const;       // N, total normal force of the bed on the mantle (last step)
   double contact_force() const;   // N, normal force of the cone contact (last step)

@@ -36,6 +36,23 @@ TEST(ChamberGeometry, ShippedChamberHasPositiveRestGaps) {
   }
 }
 
+TEST(ChamberGeometry, LinerPosesStartAtTheSphereCentre) {
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  mbd::Mechanism m(p);
+  EXPECT_LT(m.liner_pose(mbd::BodyId::FloatingCone).translation().norm(), 1e-12);
+  EXPECT_LT(m.liner_pose(mbd::BodyId::FixedCone).translation().norm(), 1e-12);
+  EXPECT_THROW(m.liner_pose(mbd::BodyId::Vibrator), std::invalid_argument);
+  m.advance(3.0);
+  // The mantle frame stays on the spherical joint O1 (its origin is the O1 point of both cones).
+  const auto a = m.liner_pose(mbd::BodyId::FloatingCone), b = m.liner_pose(mbd::BodyId::FixedCone);
+  EXPECT_LT((a.translation() - b.translation()).norm(), 1e-4);
+  // ... and its axis is tilted by the nutation angle against the concave's.
+  const double ang = std::acos(std::min(1.0, a.linear().col(2).dot(b.linear().col(2))));
+  EXPECT_NEAR(ang, m.nutation_angle(), 1e-9);
+  EXPECT_GT(ang, 0.1 * M_PI / 180);
+}
+
 TEST(ParticleWrench, StaticForceOnTheConcaveDisplacesTheFrameByForceOverStiffness) {
   auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
   const auto p = mbd::load_mechanism_params(root.child("mbd"));
