@@ -11,7 +11,7 @@
 //   sieve = min(I, (I + S) / sqrt(2))
 // i.e. the I x S cross-section passes a square hole of side a either aligned (I <= a) or turned by
 // 45 degrees ((I + S)/sqrt(2) <= a), whichever is smaller. A sphere of diameter d gives d; a straight
-// rod of spheres of diameter d gives d; a thin square plate of side s gives about s/sqrt(2)+.
+// rod of spheres of diameter d gives d; a plate s x s x t (t < 0.41 s) gives (s + t)/sqrt(2).
 #include <Eigen/Core>
 #include <cstdint>
 #include <unordered_map>
