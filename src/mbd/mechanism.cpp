@@ -58,6 +58,12 @@ const char* body_name(BodyId id) {
   return "?";
 }
 
+LoadModel load_model_from_string(const std::string& s) {
+  if (s == "bed") return LoadModel::Bed;
+  if (s == "none" || s == "dem") return LoadModel::None;
+  throw std::invalid_argument("mbd: load '" + s + "' is not accepted; accepted: none, bed, dem");
+}
+
 struct Mechanism::Impl {
   MechanismParams p;
   LoadModel load;

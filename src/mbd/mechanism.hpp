@@ -66,7 +66,9 @@ struct EnergyAudit {
   }
 };
 
-enum class LoadModel { None, Bed };
+enum class LoadModel { None, Bed };  // None also for a DEM-coupled run (loads via set_particle_wrench)
+// "none" | "bed" (also "dem" -> None: the particles load the liners). Throws std::invalid_argument.
+LoadModel load_model_from_string(const std::string& s);
 
 class Mechanism {
  public:

@@ -13,10 +13,9 @@ Recording simulate(const MechanismParams& params, const SimOptions& o) {
   if (!(o.duration_s > 0)) throw std::invalid_argument("mbd::simulate: duration_s must be > 0");
   if (!(o.settle_s >= 0)) throw std::invalid_argument("mbd::simulate: settle_s must be >= 0");
   if (!(o.sample_hz > 0)) throw std::invalid_argument("mbd::simulate: sample_hz must be > 0");
-  LoadModel load;
-  if (o.load == "bed") load = LoadModel::Bed;
-  else if (o.load == "none") load = LoadModel::None;
-  else throw std::invalid_argument("mbd::simulate: load '" + o.load + "' is not accepted; accepted: none, bed");
+  if (o.load != "bed" && o.load != "none")
+    throw std::invalid_argument("mbd::simulate: load '" + o.load + "' is not accepted; accepted: none, bed");
+  const LoadModel load = load_model_from_string(o.load);
 
   Mechanism m(params, load);
   const double dt = params.dt_s;

@@ -99,6 +99,15 @@ TEST(Mechanism, PowerBalanceOverWholeCycles) {
 
 namespace {
 
+TEST(Mechanism, LoadNames) {
+  EXPECT_EQ(mbd::load_model_from_string("bed"), mbd::LoadModel::Bed);
+  EXPECT_EQ(mbd::load_model_from_string("dem"), mbd::LoadModel::None);
+  EXPECT_THROW(mbd::load_model_from_string("sand"), std::invalid_argument);
+  mbd::SimOptions o;
+  o.load = "dem";  // simulate() has no particles
+  EXPECT_THROW(mbd::simulate(mbd::MechanismParams(), o), std::invalid_argument);
+}
+
 TEST(Mechanism, DeterministicAndThreadSafe) {
   auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
   const auto p = mbd::load_mechanism_params(root.child("mbd"));
