@@ -35,7 +35,7 @@ namespace {
 
 const char* kUsage =
     "usage: diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR\n"
-    "                [--model-seconds S (default 1)] [--settle-s S (default 4)] [--no-plots]\n"
+    "                [--model-seconds S (default 3)] [--settle-s S (default 4)] [--no-plots]\n"
     "                [--setpoint whole-rpm|measured (drive set point: mean speed rounded to whole rpm,\n"
     "                 default, so that droop shows; or the mean speed itself)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
@@ -143,7 +143,7 @@ void write_overlay(const fs::path& p, const Dataset& d, const Comparison& before
 int main(int argc, char** argv) {
   std::vector<std::string> recs;
   std::string config, out;
-  double model_seconds = 1.0, settle_s = 4.0;
+  double model_seconds = 3.0, settle_s = 4.0;
   bool plots = true, whole_rpm = true;
   try {
     for (int i = 1; i < argc; ++i) {
