@@ -40,17 +40,11 @@ inline int bond_update(Bond& b, const double xi[3], const double xj[3], const do
   const double wn = wr[0] * n[0] + wr[1] * n[1] + wr[2] * n[2];
   const double wt[3] = {wr[0] - wn * n[0], wr[1] - wn * n[1], wr[2] - wn * n[2]};
 
-  // keep the shear force and bending torque in the current tangent plane (rotate with the pair)
+  // keep the shear force and bending torque in the current tangent plane (projection; the length change is
+  // second order in the rotation per step)
   auto to_plane = [&n](double* v) {
     const double vn_ = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
-    if (vn_ == 0.0) return;
-    const double l2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     v[0] -= vn_ * n[0]; v[1] -= vn_ * n[1]; v[2] -= vn_ * n[2];
-    const double m2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    if (m2 > 0.0) {
-      const double s = std::sqrt(l2 / m2);
-      v[0] *= s; v[1] *= s; v[2] *= s;
-    }
   };
   double ft[3] = {b.ft[0], b.ft[1], b.ft[2]};
   double tt[3] = {b.tt[0], b.tt[1], b.tt[2]};

@@ -37,24 +37,19 @@ inline void hertz_mindlin(double delta, const double n[3], const double vrel[3],
   // Eq. 16: k_n = 2 E* sqrt(r* d), F_ns = 4/3 E* sqrt(r*) d^1.5 = 2/3 k_n d, F_nd = -2 sqrt(5/6) xi sqrt(M* k_n) v_n
   const double kn = 2.0 * p.E_star * sqrt_rd;
   const double vn = vrel[0] * n[0] + vrel[1] * n[1] + vrel[2] * n[2];  // < 0 when approaching
-  const double fn = (2.0 / 3.0) * kn * delta - k56 * p.beta * std::sqrt(m_eff * kn) * vn;
+  const double cn = k56 * p.beta * std::sqrt(m_eff * kn);
+  const double fn = (2.0 / 3.0) * kn * delta - cn * vn;
   // tangential relative velocity
   const double vt0 = vrel[0] - vn * n[0], vt1 = vrel[1] - vn * n[1], vt2 = vrel[2] - vn * n[2];
-  // rotate the spring into the current tangent plane, keeping its length
+  // project the spring onto the current tangent plane (as LAMMPS/LIGGGHTS; the length change is second order
+  // in the rotation per step)
   const double hn = hist[0] * n[0] + hist[1] * n[1] + hist[2] * n[2];
-  const double h2_old = hist[0] * hist[0] + hist[1] * hist[1] + hist[2] * hist[2];
   double h0 = hist[0] - hn * n[0], h1 = hist[1] - hn * n[1], h2 = hist[2] - hn * n[2];
-  if (hn != 0.0) {
-    const double h2_new = h0 * h0 + h1 * h1 + h2 * h2;
-    if (h2_new > 0.0) {
-      const double s = std::sqrt(h2_old / h2_new);
-      h0 *= s; h1 *= s; h2 *= s;
-    }
-  }
   h0 += vt0 * dt; h1 += vt1 * dt; h2 += vt2 * dt;
   // Eq. 18: k_t = 8 G* sqrt(r* d), F_t = -k_t d_t - 2 sqrt(5/6) xi sqrt(M* k_t) v_t
+  // k_t / k_n = 4 G*/E*, so sqrt(M* k_t) = sqrt(M* k_n) sqrt(4 G*/E*)
   const double kt = 8.0 * p.G_star * sqrt_rd;
-  const double ct = k56 * p.beta * std::sqrt(m_eff * kt);
+  const double ct = cn * (p.sqrt_kt_kn > 0 ? p.sqrt_kt_kn : std::sqrt(4.0 * p.G_star / p.E_star));
   double ft0 = -kt * h0 - ct * vt0, ft1 = -kt * h1 - ct * vt1, ft2 = -kt * h2 - ct * vt2;
   // Eq. 19: Coulomb cap; the spring is reset to the length that gives the capped force
   const double ft_mag2 = ft0 * ft0 + ft1 * ft1 + ft2 * ft2;

@@ -27,6 +27,7 @@ struct PairProps {
   double E_star = 0;            // Eq. 17: (sum (1-nu^2)/E)^-1
   double G_star = 0;            // Mindlin: (sum (2-nu)/G)^-1
   double beta = 0;              // xi_d = -ln e / sqrt(ln^2 e + pi^2) (Eq. 16), 0 for e = 1
+  double sqrt_kt_kn = 0;        // sqrt(k_t / k_n) = sqrt(4 G* / E*), cached by make_pair (0: computed on use)
 };
 
 inline double xi_from_restitution(double e) {
@@ -51,6 +52,7 @@ inline PairProps make_pair(const Material& a, const Material& b, double friction
   p.E_star = 1.0 / ((1 - a.nu * a.nu) / a.E() + (1 - b.nu * b.nu) / b.E());
   p.G_star = 1.0 / ((2 - a.nu) / a.G + (2 - b.nu) / b.G);
   p.beta = xi_from_restitution(restitution);
+  p.sqrt_kt_kn = std::sqrt(4.0 * p.G_star / p.E_star);
   return p;
 }
 

@@ -448,47 +448,62 @@ void World::rebuild() {
 }
 
 // ------------------------------------------------------------------ forces
+// Pair forces, parallel over owners i (pairs are grouped by owner): the owner's side is summed in place into
+// f[i], t[i] (with gravity); the other side's force and torque go to pout_ for the per-particle gather.
 void World::pair_forces() {
   const double dt = prm_.dt;
   const MaterialTable& mt = prm_.materials;
+  const double gx = prm_.gravity[0], gy = prm_.gravity[1], gz = prm_.gravity[2];
   const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
   const double* vx = p_.vx.data(); const double* vy = p_.vy.data(); const double* vz = p_.vz.data();
   const double* wx = p_.wx.data(); const double* wy = p_.wy.data(); const double* wz = p_.wz.data();
-  const double* r = p_.r.data(); const double* m = p_.m.data(); const int* mat = p_.material.data();
-  const uint32_t* PI = pi_.data(); const uint32_t* PJ = pj_.data();
+  const double* r = p_.r.data(); const double* m = p_.m.data(); const double* im = p_.inv_m.data();
+  const int* mat = p_.material.data();
+  double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
+  double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
+  const uint32_t* PJ = pj_.data();
+  const uint32_t* IS = istart_.data();
   std::array<double, 3>* H = hist_.data();
   PairOut* O = pout_.data();
-  const long np = static_cast<long>(npairs_);
-  chunked(nt_, np, [&](long qb, long qe, int) {
-  for (long q = qb; q < qe; ++q) {
-    const uint32_t i = PI[q], j = PJ[q];
-    const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
-    const double rs = r[i] + r[j];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    PairOut& o = O[q];
-    if (d2 >= rs * rs) {
-      H[q][0] = H[q][1] = H[q][2] = 0.0;
-      for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
-      continue;
+  chunked(nt_, static_cast<long>(p_.size()), [&](long ib, long ie, int) {
+    for (long i = ib; i < ie; ++i) {
+      const double xi = x[i], yi = y[i], zi = z[i], ri = r[i], imi = im[i];
+      const double vxi = vx[i], vyi = vy[i], vzi = vz[i], wxi = wx[i], wyi = wy[i], wzi = wz[i];
+      const int mati = mat[i];
+      double f0 = m[i] * gx, f1 = m[i] * gy, f2 = m[i] * gz, t0 = 0, t1 = 0, t2 = 0;
+      for (uint32_t q = IS[i]; q < IS[i + 1]; ++q) {
+        const uint32_t j = PJ[q];
+        const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+        const double rs = ri + r[j];
+        const double d2 = dx * dx + dy * dy + dz * dz;
+        PairOut& o = O[q];
+        if (d2 >= rs * rs) {
+          H[q][0] = H[q][1] = H[q][2] = 0.0;
+          o.f[0] = o.f[1] = o.f[2] = o.tj[0] = o.tj[1] = o.tj[2] = 0.0;
+          continue;
+        }
+        const double d = std::sqrt(d2), id = 1.0 / d, irs = 1.0 / rs;
+        const double n[3] = {dx * id, dy * id, dz * id};  // from j to i
+        const double ai = d * ri * irs, aj = d - ai;       // centre-to-contact distances
+        // v_i + w_i x (-ai n) - v_j - w_j x (aj n)
+        const double vrel[3] = {vxi - vx[j] - ai * (wyi * n[2] - wzi * n[1]) - aj * (wy[j] * n[2] - wz[j] * n[1]),
+                                vyi - vy[j] - ai * (wzi * n[0] - wxi * n[2]) - aj * (wz[j] * n[0] - wx[j] * n[2]),
+                                vzi - vz[j] - ai * (wxi * n[1] - wyi * n[0]) - aj * (wx[j] * n[1] - wy[j] * n[0])};
+        const double wrel[3] = {wxi - wx[j], wyi - wy[j], wzi - wz[j]};
+        const double reff = ri * r[j] * irs, meff = 1.0 / (imi + im[j]);
+        ContactForce c;
+        hertz_mindlin(rs - d, n, vrel, wrel, reff, meff, mt.pair(mati, mat[j]), dt, H[q].data(), c);
+        // torques: -ai n x f + T_r on i ; (aj n) x (-f) - T_r on j
+        const double cx = n[1] * c.f[2] - n[2] * c.f[1], cy = n[2] * c.f[0] - n[0] * c.f[2],
+                     cz = n[0] * c.f[1] - n[1] * c.f[0];
+        f0 += c.f[0]; f1 += c.f[1]; f2 += c.f[2];
+        t0 += -ai * cx + c.troll[0]; t1 += -ai * cy + c.troll[1]; t2 += -ai * cz + c.troll[2];
+        o.f[0] = c.f[0]; o.f[1] = c.f[1]; o.f[2] = c.f[2];
+        o.tj[0] = -aj * cx - c.troll[0]; o.tj[1] = -aj * cy - c.troll[1]; o.tj[2] = -aj * cz - c.troll[2];
+      }
+      fx[i] = f0; fy[i] = f1; fz[i] = f2;
+      tx[i] = t0; ty[i] = t1; tz[i] = t2;
     }
-    const double d = std::sqrt(d2), id = 1.0 / d;
-    const double n[3] = {dx * id, dy * id, dz * id};  // from j to i
-    const double ai = d * r[i] / rs, aj = d - ai;      // centre-to-contact distances
-    // v_i + w_i x (-ai n) - v_j - w_j x (aj n)
-    const double vrel[3] = {vx[i] - vx[j] - ai * (wy[i] * n[2] - wz[i] * n[1]) - aj * (wy[j] * n[2] - wz[j] * n[1]),
-                            vy[i] - vy[j] - ai * (wz[i] * n[0] - wx[i] * n[2]) - aj * (wz[j] * n[0] - wx[j] * n[2]),
-                            vz[i] - vz[j] - ai * (wx[i] * n[1] - wy[i] * n[0]) - aj * (wx[j] * n[1] - wy[j] * n[0])};
-    const double wrel[3] = {wx[i] - wx[j], wy[i] - wy[j], wz[i] - wz[j]};
-    const double reff = r[i] * r[j] / rs, meff = m[i] * m[j] / (m[i] + m[j]);
-    ContactForce c;
-    hertz_mindlin(rs - d, n, vrel, wrel, reff, meff, mt.pair(mat[i], mat[j]), dt, H[q].data(), c);
-    // torques: -ai n x f + T_r on i ; (aj n) x (-f) - T_r on j
-    const double cx = n[1] * c.f[2] - n[2] * c.f[1], cy = n[2] * c.f[0] - n[0] * c.f[2],
-                 cz = n[0] * c.f[1] - n[1] * c.f[0];
-    o.f[0] = c.f[0]; o.f[1] = c.f[1]; o.f[2] = c.f[2];
-    o.ti[0] = -ai * cx + c.troll[0]; o.ti[1] = -ai * cy + c.troll[1]; o.ti[2] = -ai * cz + c.troll[2];
-    o.tj[0] = -aj * cx - c.troll[0]; o.tj[1] = -aj * cy - c.troll[1]; o.tj[2] = -aj * cz - c.troll[2];
-  }
   });
 }
 
@@ -549,25 +564,48 @@ void World::bond_forces() {
   need_rebuild_ = true;
 }
 
-void World::gather_forces() {
+// Half kick (forces of the previous step) and drift of particle i; returns its squared displacement since the
+// last neighbour-list build (infinity for a non-finite position).
+inline double World::kick_drift(long i, bool kick) {
+  const double dt = prm_.dt, hdt = 0.5 * dt;
+  Particles& p = p_;
+  if (kick && !p.fixed[i]) {
+    const double im = p.inv_m[i], iI = p.inv_I[i];
+    p.vx[i] += hdt * p.fx[i] * im; p.vy[i] += hdt * p.fy[i] * im; p.vz[i] += hdt * p.fz[i] * im;
+    p.wx[i] += hdt * p.tx[i] * iI; p.wy[i] += hdt * p.ty[i] * iI; p.wz[i] += hdt * p.tz[i] * iI;
+  }
+  p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];
+  const double ddx = p.x[i] - x0_[i], ddy = p.y[i] - y0_[i], ddz = p.z[i] - z0_[i];
+  const double d2 = ddx * ddx + ddy * ddy + ddz * ddz;
+  // NaN compares false: force a rebuild, whose grid reports the non-finite particle
+  return d2 == d2 ? d2 : std::numeric_limits<double>::infinity();
+}
+
+// Per particle, in fixed order: the other-side pair forces, bond forces and wall contacts are added to the
+// owner sums of pair_forces(). With kick, the velocity half-step that ends this step follows; with drift also
+// the half kick and drift that begin the next step (the arithmetic is the same as in separate loops).
+void World::gather_forces(bool kick, bool drift) {
   const long n = static_cast<long>(p_.size());
   const std::size_t nw = walls_.size();
-  const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
-  const double dt = prm_.dt;
+  const double dt = prm_.dt, hdt = 0.5 * dt;
   const MaterialTable& mt = prm_.materials;
   const bool have_bonds = !bonds_.empty();
-  wforce_thr_.assign(static_cast<std::size_t>(nt_) * nw * 3, 0.0);
+  double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
+  double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
+  double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
+  double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
+  double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
+  const double* im = p_.inv_m.data(); const double* iI = p_.inv_I.data();
+  const char* fixed = p_.fixed.data();
+  const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
+  std::fill(wforce_thr_.begin(), wforce_thr_.end(), 0.0);
+  std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
   chunked(nt_, n, [&](long ib, long ie, int th) {
     double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
+    double maxd2 = 0;
     for (long i = ib; i < ie; ++i) {
-      const double mi = p_.m[i];
-      double f[3] = {mi * g[0], mi * g[1], mi * g[2]};
-      double t[3] = {0, 0, 0};
-      for (uint32_t q = istart_[i]; q < istart_[i + 1]; ++q) {
-        const PairOut& o = pout_[q];
-        f[0] += o.f[0]; f[1] += o.f[1]; f[2] += o.f[2];
-        t[0] += o.ti[0]; t[1] += o.ti[1]; t[2] += o.ti[2];
-      }
+      double f[3] = {fx[i], fy[i], fz[i]};
+      double t[3] = {tx[i], ty[i], tz[i]};
       for (uint32_t s = jstart_[i]; s < jstart_[i + 1]; ++s) {
         const PairOut& o = pout_[jref_[s]];
         f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
@@ -588,30 +626,37 @@ void World::gather_forces() {
       }
       for (std::size_t k = 0; k < nw; ++k) {
         const PlanarWall& w = walls_[k];
-        const double dist = (p_.x[i] - w.p[0]) * w.n[0] + (p_.y[i] - w.p[1]) * w.n[1] + (p_.z[i] - w.p[2]) * w.n[2];
+        const double dist = (x[i] - w.p[0]) * w.n[0] + (y[i] - w.p[1]) * w.n[1] + (z[i] - w.p[2]) * w.n[2];
         std::array<double, 3>& h = whist_[i * nw + k];
         if (dist >= p_.r[i]) {
           h[0] = h[1] = h[2] = 0.0;
           continue;
         }
         const double* nn = w.n;
-        const double wxi = p_.wx[i], wyi = p_.wy[i], wzi = p_.wz[i];
+        const double wxi = wx[i], wyi = wy[i], wzi = wz[i];
         // v_i + w_i x (-dist n) - v_wall
-        const double vrel[3] = {p_.vx[i] - dist * (wyi * nn[2] - wzi * nn[1]) - w.v[0],
-                                p_.vy[i] - dist * (wzi * nn[0] - wxi * nn[2]) - w.v[1],
-                                p_.vz[i] - dist * (wxi * nn[1] - wyi * nn[0]) - w.v[2]};
+        const double vrel[3] = {vx[i] - dist * (wyi * nn[2] - wzi * nn[1]) - w.v[0],
+                                vy[i] - dist * (wzi * nn[0] - wxi * nn[2]) - w.v[1],
+                                vz[i] - dist * (wxi * nn[1] - wyi * nn[0]) - w.v[2]};
         const double wrel[3] = {wxi, wyi, wzi};
         ContactForce c;
-        hertz_mindlin(p_.r[i] - dist, nn, vrel, wrel, p_.r[i], mi, mt.pair(p_.material[i], w.material), dt, h.data(), c);
+        hertz_mindlin(p_.r[i] - dist, nn, vrel, wrel, p_.r[i], p_.m[i], mt.pair(p_.material[i], w.material), dt,
+                      h.data(), c);
         f[0] += c.f[0]; f[1] += c.f[1]; f[2] += c.f[2];
         t[0] += -dist * (nn[1] * c.f[2] - nn[2] * c.f[1]) + c.troll[0];
         t[1] += -dist * (nn[2] * c.f[0] - nn[0] * c.f[2]) + c.troll[1];
         t[2] += -dist * (nn[0] * c.f[1] - nn[1] * c.f[0]) + c.troll[2];
         wf[3 * k] -= c.f[0]; wf[3 * k + 1] -= c.f[1]; wf[3 * k + 2] -= c.f[2];
       }
-      p_.fx[i] = f[0]; p_.fy[i] = f[1]; p_.fz[i] = f[2];
-      p_.tx[i] = t[0]; p_.ty[i] = t[1]; p_.tz[i] = t[2];
+      fx[i] = f[0]; fy[i] = f[1]; fz[i] = f[2];
+      tx[i] = t[0]; ty[i] = t[1]; tz[i] = t[2];
+      if (kick && !fixed[i]) {
+        vx[i] += hdt * f[0] * im[i]; vy[i] += hdt * f[1] * im[i]; vz[i] += hdt * f[2] * im[i];
+        wx[i] += hdt * t[0] * iI[i]; wy[i] += hdt * t[1] * iI[i]; wz[i] += hdt * t[2] * iI[i];
+      }
+      if (drift) maxd2 = std::max(maxd2, kick_drift(i, true));
     }
+    if (drift) maxd_thr_[th] = maxd2;
   });
   for (std::size_t k = 0; k < nw; ++k) {
     double s[3] = {0, 0, 0};
@@ -627,71 +672,74 @@ void World::prepare() {
   if (bonds_dirty_) rebuild_bond_csr();
   if (prm_.check_time_step && !dt_checked_ && p_.size() > 0) require_stable_time_step();
   dt_checked_ = true;
+  wforce_thr_.resize(static_cast<std::size_t>(nt_) * walls_.size() * 3);
+  maxd_thr_.resize(static_cast<std::size_t>(nt_));
 }
 
+void World::move_walls() {
+  for (PlanarWall& w : walls_)
+    for (int a = 0; a < 3; ++a) w.p[a] += prm_.dt * w.v[a];
+}
+
+// Velocity Verlet. Between two steps of one call the closing half kick of a step, the opening half kick and
+// the drift of the next are done in the same particle loop as the force gather.
 void World::step(long nsteps) {
   if (nsteps < 0) throw std::invalid_argument("dem::World::step: negative step count");
+  if (nsteps == 0) return;
   prepare();
   const long n = static_cast<long>(p_.size());
-  const double dt = prm_.dt, hdt = 0.5 * dt;
   using clk = std::chrono::steady_clock;
-  auto lap = [this](int k, clk::time_point& t) {
+  auto t1 = clk::now();
+  auto lap = [this, &t1](int k) {
     const auto now = clk::now();
-    phase_s_[k] += std::chrono::duration<double>(now - t).count();
-    t = now;
+    phase_s_[k] += std::chrono::duration<double>(now - t1).count();
+    t1 = now;
   };
-  double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
-  double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
-  double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
-  const double* fx = p_.fx.data(); const double* fy = p_.fy.data(); const double* fz = p_.fz.data();
-  const double* tx = p_.tx.data(); const double* ty = p_.ty.data(); const double* tz = p_.tz.data();
-  const double* im = p_.inv_m.data(); const double* iI = p_.inv_I.data();
-  const char* fixed = p_.fixed.data();
+  // opening half kick + drift of the first step
+  std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+  chunked(nt_, n, [&](long ib, long ie, int th) {
+    double maxd2 = 0;
+    for (long i = ib; i < ie; ++i) maxd2 = std::max(maxd2, kick_drift(i, true));
+    maxd_thr_[th] = maxd2;
+  });
+  move_walls();
+  lap(0);
   for (long s = 0; s < nsteps; ++s) {
-    auto t0 = clk::now();
-    const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
-    // half kick + drift
-    std::array<double, 256> mx{};
-    chunked(std::min(nt_, 256), n, [&](long ib, long ie, int th) {
+    const bool last = s == nsteps - 1;
     double maxd2 = 0;
-    for (long i = ib; i < ie; ++i) {
-      if (!fixed[i]) {
-        vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
-        wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
-      }
-      x[i] += dt * vx[i]; y[i] += dt * vy[i]; z[i] += dt * vz[i];
-      const double ddx = x[i] - X0[i], ddy = y[i] - Y0[i], ddz = z[i] - Z0[i];
-      const double d2 = ddx * ddx + ddy * ddy + ddz * ddz;
-      // NaN compares false: force a rebuild, whose grid reports the non-finite particle
-      maxd2 = std::max(maxd2, d2 == d2 ? d2 : std::numeric_limits<double>::infinity());
-    }
-    mx[th] = maxd2;
-    });
-    double maxd2 = 0;
-    for (double v : mx) maxd2 = std::max(maxd2, v);
-    for (PlanarWall& w : walls_)
-      for (int a = 0; a < 3; ++a) w.p[a] += dt * w.v[a];
-    auto t1 = clk::now();
-    phase_s_[0] += std::chrono::duration<double>(t1 - t0).count();
-    if (need_rebuild_ || 4.0 * maxd2 > skin_ * skin_ || skin_ < 0) rebuild();
-    lap(1, t1);
+    for (double v : maxd_thr_) maxd2 = std::max(maxd2, v);
+    if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_) rebuild();
+    lap(1);
     pair_forces();
-    lap(2, t1);
+    lap(2);
     bond_forces();
-    lap(3, t1);
-    gather_forces();
-    lap(4, t1);
-    t_ += dt;
-    for (auto& ia : interactions_) ia->add_forces(p_, t_, dt);
-    lap(5, t1);
-    chunked(nt_, n, [&](long ib, long ie, int) {
-    for (long i = ib; i < ie; ++i) {
-      if (fixed[i]) continue;
-      vx[i] += hdt * fx[i] * im[i]; vy[i] += hdt * fy[i] * im[i]; vz[i] += hdt * fz[i] * im[i];
-      wx[i] += hdt * tx[i] * iI[i]; wy[i] += hdt * ty[i] * iI[i]; wz[i] += hdt * tz[i] * iI[i];
+    lap(3);
+    t_ += prm_.dt;
+    if (interactions_.empty()) {
+      gather_forces(true, !last);
+      lap(4);
+    } else {
+      gather_forces(false, false);
+      lap(4);
+      for (auto& ia : interactions_) ia->add_forces(p_, t_, prm_.dt);
+      lap(5);
+      const double hdt = 0.5 * prm_.dt;
+      std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+      chunked(nt_, n, [&](long ib, long ie, int th) {
+        double m2 = 0;
+        for (long i = ib; i < ie; ++i) {
+          if (!p_.fixed[i]) {
+            const double im = p_.inv_m[i], iI = p_.inv_I[i];
+            p_.vx[i] += hdt * p_.fx[i] * im; p_.vy[i] += hdt * p_.fy[i] * im; p_.vz[i] += hdt * p_.fz[i] * im;
+            p_.wx[i] += hdt * p_.tx[i] * iI; p_.wy[i] += hdt * p_.ty[i] * iI; p_.wz[i] += hdt * p_.tz[i] * iI;
+          }
+          if (!last) m2 = std::max(m2, kick_drift(i, true));
+        }
+        maxd_thr_[th] = m2;
+      });
+      lap(6);
     }
-    });
-    lap(6, t1);
+    if (!last) move_walls();
     ++nstep_;
   }
 }

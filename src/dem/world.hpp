@@ -6,9 +6,9 @@
 // per bond into its own slot and gathered per particle in a fixed order.
 //
 // Step order: half kick (v += dt/2 F/m, w += dt/2 T/I) -> drift (x += dt v, walls move) -> neighbour list
-// rebuild if any particle moved more than skin/2 -> pair forces -> bond forces (breaks logged) -> gather,
-// gravity and wall forces -> Interaction::add_forces -> half kick. Forces of a new particle are zero until
-// its first step.
+// rebuild if any particle moved more than skin/2 -> pair forces (+ gravity) -> bond forces (breaks logged)
+// -> gather and wall forces -> Interaction::add_forces -> half kick. Forces of a new particle are zero until
+// its first step. Particles with fixed[i] = 1 keep their velocities (prescribed motion).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -102,8 +102,8 @@ class World {
   const std::array<double, 7>& phase_seconds() const { return phase_s_; }
 
  private:
-  struct PairOut {
-    double f[3], ti[3], tj[3];
+  struct PairOut {  // force on i (j gets -f) and torque on j of one neighbour pair
+    double f[3], tj[3];
   };
   struct BondOutSlot {
     double f[3], ti[3], tj[3];
@@ -116,7 +116,9 @@ class World {
   void resize_per_particle();
   void pair_forces();
   void bond_forces();
-  void gather_forces();
+  void gather_forces(bool kick, bool drift);
+  double kick_drift(long i, bool kick);
+  void move_walls();
   bool bonded(uint32_t i, uint32_t j) const;
 
   WorldParams prm_;
@@ -144,6 +146,7 @@ class World {
   std::vector<PlanarWall> walls_;
   std::vector<std::array<double, 3>> whist_;  // [particle * n_walls + wall]
   std::vector<double> wforce_thr_;            // per thread partial wall forces
+  std::vector<double> maxd_thr_;              // per thread max squared displacement since the last build
 
   // bonds
   std::vector<Bond> bonds_;
