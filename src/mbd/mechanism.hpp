@@ -18,7 +18,7 @@
 //                                 dJointFeedback: drive torque = feedback torque on B6 along the axis.
 // Forces computed by our code and applied with dBodyAddForce: absorbers (linear 6-DOF spring-damper at
 // B1's COM), the cone contact (Eq. 11, 13-15) at the closest approach of mantle and concave, the
-// equivalent material bed (bed_model.hpp), external particle wrenches, and the enabled effects.
+// equivalent material bed (chamber_forces.hpp), external particle wrenches, and the enabled effects.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>

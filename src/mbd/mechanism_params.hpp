@@ -30,9 +30,13 @@ struct ContactParams {
   double v_s = 1e-3, v_d = 10e-3;          // m/s (Table 1: 1 and 10 mm/s)
 };
 
-// Equivalent material-bed load (see bed_model.hpp): pressure on the mantle where the local gap g is
+// Equivalent material-bed load (computed in chamber_forces.cpp): pressure on the mantle where the local gap g is
 // smaller than engage_ratio * g_rest (g_rest: gap of the untilted assembly at that height):
-//   strain e = 1 - g / (engage_ratio g_rest),  p = modulus e^exponent + viscosity * e_dot (closing only)
+//   strain e = 1 - g / (engage_ratio g_rest),  p = modulus e^exponent + viscosity * e_dot (closing only,
+//   faded in over the first 5 % strain), force p x patch area along the local concave normal, reacted
+//   on the concave; tangential bed friction by the Eq. 14 law with bed velocities. Calibrated at 400 rpm.
+//   Known limit: with the crushing force ~ w^2, the bed's power grows ~ w^4 (415 kW at 600 rpm vs
+//   146 kW measured), see the report in the commit history.
 struct BedParams {
   double modulus_Pa = 8e6;
   double exponent = 1.5;
