@@ -5,6 +5,7 @@
 #include <inertia_crusher/DriveState.h>
 #include <inertia_crusher/GeometryState.h>
 #include <inertia_crusher/GeometryWrench.h>
+#include <inertia_crusher/ProductStream.h>
 #include <inertia_crusher/TestPoint.h>
 #include <rosgraph_msgs/Clock.h>
 #include <tf2_msgs/TFMessage.h>
@@ -77,6 +78,7 @@ class MbdNode {
     if (cfg_.run.load == "dem") {
       sub_wrench_ = nh.subscribe("/crusher/geometry_wrench", 10, &MbdNode::on_wrench, this,
                                  ros::TransportHints().tcpNoDelay());
+      sub_product_ = nh.subscribe("/crusher/product", 100, &MbdNode::on_product, this);
     }
     if (!out_.empty()) bag_.open(out_ + "/run.bag");
   }
@@ -181,6 +183,29 @@ class MbdNode {
     bag_.write("/crusher/geometry_wrench", ros::Time(mech_->time()), *w);
   }
 
+  // The DEM's screened product (cumulative): the latest one goes into summary.json.
+  void on_product(const inertia_crusher::ProductStream::ConstPtr& p) {
+    analysis::ProductSummary s;
+    s.throughput_tph = p->throughput_tph;
+    s.mass_discharged_kg = p->mass_discharged_kg;
+    s.sieve_mm = p->sieve_mm;
+    s.passing_pct = p->passing_pct;
+    product_ = s;
+    bag_.write("/crusher/product", p->header.stamp, *p);
+  }
+
+  // Tells the DEM the run is over (it closes its bag and exits).
+  void send_finished() {
+    inertia_crusher::GeometryState g;
+    g.header.stamp = ros::Time(mech_->time());
+    g.time = mech_->time();
+    g.finished = true;
+    for (int i = 0; i < 5; ++i) {
+      pub_geom_.publish(g);
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+
   void check_finite() {
     for (auto id : kBodies) {
       auto b = mech_->body(id);
@@ -243,6 +268,14 @@ class MbdNode {
   }
 
   void finish() {
+    if (cfg_.run.load == "dem") {
+      const double until = wall_now() + 1.0;  // collect the DEM's last product message
+      while (wall_now() < until) {
+        ros::spinOnce();
+        ros::WallDuration(0.01).sleep();
+      }
+      send_finished();
+    }
     bag_.close();
     if (out_.empty()) return;
     auto s = analysis::summarize(sig_, cfg_.mech.drive_speed_rad_s, cfg_.run.settle_s);
@@ -262,7 +295,7 @@ class MbdNode {
   std::unique_ptr<mbd::Mechanism> mech_;
   coupling::Leader leader_;
   ros::Publisher pub_clock_, pub_tp_, pub_drive_, pub_tf_, pub_geom_;
-  ros::Subscriber sub_wrench_;
+  ros::Subscriber sub_wrench_, sub_product_;
   nodes::BagRecorder bag_;
   analysis::RunSignals sig_;
   std::optional<analysis::ProductSummary> product_;

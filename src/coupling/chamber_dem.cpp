@@ -1,0 +1,314 @@
+#include "coupling/chamber_dem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "dem/fragments.hpp"
+#include "dem/mesh_liners.hpp"
+#include "dem/revolution.hpp"
+#include "rocks/shape.hpp"
+
+namespace coupling {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kRock = 0, kSteel = 1;  // dem::default_table4() indices
+
+// Profile sorted bottom to top, as revolve_profile expects for outward normals.
+std::vector<dem::ProfilePoint> ascending(const core::Profile& p) {
+  std::vector<dem::ProfilePoint> out;
+  for (std::size_t i = 0; i < p.size(); ++i) out.push_back({p.z[i], p.r[i]});
+  std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.z < b.z; });
+  return out;
+}
+
+Eigen::Quaterniond extrapolate(const Eigen::Quaterniond& q, const Eigen::Vector3d& w, double tau) {
+  const double a = w.norm() * tau;
+  if (a < 1e-15) return q;
+  return (Eigen::Quaterniond(Eigen::AngleAxisd(a, w.normalized())) * q).normalized();
+}
+
+}  // namespace
+
+double ChamberDem::uniform() {  // splitmix64: reproducible feed positions
+  std::uint64_t z = (rng_state_ += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) {
+  core::validate_chamber_geometry(p_.chamber);
+  auto mant = ascending(p_.chamber.mantle), conc = ascending(p_.chamber.concave);
+  z_bottom_ = conc.front().z;
+  z_top_ = conc.back().z;
+  const double rock = p_.feed.rock_size_m;
+
+  // Breakable rocks: four irregular shapes packed with metaparticles and bonded (section 2.4.1).
+  for (int s = 0; s < p_.feed.shapes; ++s) {
+    auto shape = rocks::make_irregular_rock(p_.feed.seed + 101 * s, rock, 22, "rock" + std::to_string(s));
+    rocks::PackingOptions po;
+    po.density = p_.feed.packing_density;
+    po.seed = p_.feed.seed + 101 * s;
+    rocks_.push_back(rocks::pack_shape(*shape, *p_.feed.metaparticles, po));
+    double m = 0;
+    for (double r : rocks_.back().radii) m += 2600.0 * 4.0 / 3.0 * kPi * r * r * r;
+    rock_mass_.push_back(m);
+  }
+
+  // Time step from one bonded rock: the stiffer of Hertz (Rayleigh) and bond limits, with margin.
+  dem::WorldParams wp;
+  wp.threads = p_.threads;
+  wp.skin = 0.4 * p_.feed.metaparticles->max_radius();  // the world starts empty: no automatic skin
+  wp.materials = dem::default_table4();
+  double dt = p_.dt_s;
+  {
+    dem::WorldParams probe = wp;
+    probe.check_time_step = false;
+    dem::World w(probe);
+    const auto& r0 = rocks_.front();
+    for (std::size_t i = 0; i < r0.size(); ++i) {
+      double x[3] = {r0.positions[i].x(), r0.positions[i].y(), r0.positions[i].z()};
+      w.add_particle(x, r0.radii[i], kRock);
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> pairs(r0.bonds.begin(), r0.bonds.end());
+    w.bond_pairs(pairs, p_.bond);
+    auto c = w.time_step_check();
+    const double bound = std::min(wp.max_rayleigh_fraction * c.rayleigh, c.bond);
+    if (dt <= 0) dt = 0.8 * bound;
+    if (dt > bound) {
+      throw std::invalid_argument("dem.dt_s = " + std::to_string(dt) + " s is unstable: Rayleigh step " +
+                                  std::to_string(c.rayleigh) + " s (x" + std::to_string(wp.max_rayleigh_fraction) +
+                                  "), bond step " + std::to_string(c.bond) + " s");
+    }
+  }
+  wp.dt = dt;
+  dt_max_ = dt;
+  world_ = std::make_unique<dem::World>(wp);
+
+  // Liners from the shared geometry (the concave refined at the force-map ring boundaries), plus a
+  // distribution cone on the mantle top and the feed hopper above the concave (both rigid with their body).
+  const double r_mtop = mant.back().r, r_ctop = conc.back().r;
+  auto liners = dem::make_liner_meshes(p_.chamber, p_.liner_sectors, 0.05, p_.rings, p_.sectors);
+  auto cap = dem::revolve_profile({mant.back(), {mant.back().z + 0.6 * r_mtop, 0.0}}, p_.liner_sectors,
+                                  dem::NormalSide::Outward, 0.0, "mantle_cap");
+  auto hopper = dem::revolve_profile({conc.back(), {z_top_ + p_.feed.choke_height_m + 3.0 * rock, r_ctop}},
+                                     p_.liner_sectors, dem::NormalSide::Inward, 0.0, "hopper");
+  mantle_ = std::make_shared<dem::MeshContact>(std::move(liners.mantle), wp.materials, kSteel);
+  concave_ = std::make_shared<dem::MeshContact>(std::move(liners.concave), wp.materials, kSteel);
+  cap_ = std::make_shared<dem::MeshContact>(std::move(cap), wp.materials, kSteel);
+  hopper_ = std::make_shared<dem::MeshContact>(std::move(hopper), wp.materials, kSteel);
+  concave_->set_regions(std::move(liners.concave_regions));  // 13 x 9 areas P_{ring,sector} (section 4.2.3)
+  force_avg_ = dem::RegionAverager(p_.rings * p_.sectors);
+  for (auto& m : {mantle_, concave_, cap_, hopper_}) {
+    m->set_threads(world_->threads());
+    world_->add_interaction(m);
+  }
+
+  r_feed_out_ = r_ctop - 0.6 * rock;
+  r_feed_in_ = std::max(0.5 * rock, 0.35 * r_feed_out_);
+  if (r_feed_out_ <= r_feed_in_) throw std::invalid_argument("dem.feed.rock_size_mm: rocks do not fit the chamber top");
+  if (p_.sieves_m.empty()) throw std::invalid_argument("dem.sieves_mm: at least one sieve");
+  screened_kg_.assign(p_.sieves_m.size() + 1, 0.0);  // last class: above the largest sieve
+}
+
+void ChamberDem::set_liners(const BodyMotion& m, const BodyMotion& c, double tau) {
+  auto apply = [tau](dem::MeshContact& mc, const BodyMotion& b, double com_z, Eigen::Vector3d* origin_out) {
+    const Eigen::Quaterniond q = extrapolate(b.orientation, b.angular_velocity, tau);
+    const Eigen::Vector3d com = b.com + b.velocity * tau;
+    const Eigen::Vector3d origin = com - q * Eigen::Vector3d(0, 0, com_z);
+    mc.set_pose({origin, q});
+    mc.set_twist({b.velocity + b.angular_velocity.cross(origin - com), b.angular_velocity});
+    if (origin_out) *origin_out = origin;
+  };
+  apply(*mantle_, m, p_.mantle_com_z_m, nullptr);
+  apply(*cap_, m, p_.mantle_com_z_m, nullptr);
+  apply(*concave_, c, p_.concave_com_z_m, &concave_origin_);
+  apply(*hopper_, c, p_.concave_com_z_m, nullptr);
+}
+
+std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const BodyMotion& c, double duration) {
+  if (!(duration > 0)) throw std::invalid_argument("ChamberDem::advance: duration must be > 0");
+  // Whole DEM steps per coupling interval, each no longer than the stable step chosen at start.
+  const long n = std::max(1L, static_cast<long>(std::ceil(duration / dt_max_ - 1e-9)));
+  const double h = duration / n;
+  if (std::abs(h - world_->dt()) > 1e-15 * h) world_->set_dt(h);
+  BodyWrench wm, wc;
+  for (long k = 0; k < n; ++k) {
+    const double tau = (k + 1) * h;  // positions at the end of the drift of this step
+    set_liners(m, c, tau);
+    world_->step(1);
+    const Eigen::Vector3d com_m = m.com + m.velocity * tau, com_c = c.com + c.velocity * tau;
+    for (const auto* mc : {mantle_.get(), cap_.get()}) {
+      const auto a = mc->wrench_about(com_m);
+      wm.force += a.force * h;
+      wm.torque += a.torque * h;
+    }
+    for (const auto* mc : {concave_.get(), hopper_.get()}) {
+      const auto b = mc->wrench_about(com_c);
+      wc.force += b.force * h;
+      wc.torque += b.torque * h;
+    }
+    force_avg_.add(concave_->region_normal_force(), h);
+    force_window_s_ += h;
+    if (world_->time() >= next_bookkeeping_ - 1e-12) {
+      bookkeeping();
+      next_bookkeeping_ = world_->time() + p_.bookkeeping_s;
+    }
+  }
+  for (auto* w : {&wm, &wc}) {
+    w->force /= duration;
+    w->torque /= duration;
+  }
+  return {wm, wc};
+}
+
+void ChamberDem::bookkeeping() {
+  const auto& br = world_->breaks();
+  broken_total_ += static_cast<long>(br.size());
+  breaks_.insert(breaks_.end(), br.begin(), br.end());
+  world_->clear_breaks();
+  discharge();
+  feed();
+  if (tracked_ids_.empty() && world_->particles().size() > 0) {  // follow a few particles of the first rock
+    for (int i = 0; i < p_.tracked_particles && i < static_cast<int>(world_->particles().size()); ++i)
+      tracked_ids_.push_back(world_->particles().id[i * 7 % world_->particles().size()]);
+  }
+  const auto& P = world_->particles();
+  for (uint64_t id : tracked_ids_) {
+    long i = world_->index_of(id);
+    if (i >= 0) tracks_.push_back({id, world_->time(), {P.x[i], P.y[i], P.z[i]}});
+  }
+}
+
+bool ChamberDem::place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q) {
+  const auto& rk = rocks_[shape];
+  const auto& P = world_->particles();
+  // The spot must be free: no particle within the rock's bounding sphere plus the largest radius.
+  double reach = 0;
+  for (std::size_t i = 0; i < rk.size(); ++i) reach = std::max(reach, rk.positions[i].norm() + rk.radii[i]);
+  for (std::size_t j = 0; j < P.size(); ++j) {
+    const double dx = P.x[j] - centre.x(), dy = P.y[j] - centre.y(), dz = P.z[j] - centre.z();
+    const double lim = reach + P.r[j];
+    if (dx * dx + dy * dy + dz * dz < lim * lim) return false;
+  }
+  const std::size_t first = P.size();
+  const double v[3] = {0, 0, -p_.feed.drop_speed_m_s};
+  for (std::size_t i = 0; i < rk.size(); ++i) {
+    const Eigen::Vector3d x = centre + q * rk.positions[i];
+    const double xa[3] = {x.x(), x.y(), x.z()};
+    world_->add_particle(xa, rk.radii[i], kRock, v);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  pairs.reserve(rk.bonds.size());
+  for (auto [i, j] : rk.bonds) pairs.emplace_back(first + i, first + j);
+  world_->bond_pairs(pairs, p_.bond);
+  fed_kg_ += rock_mass_[shape];
+  return true;
+}
+
+// Choke feeding: keep the hopper zone above the chamber top filled, within the feeder's rate.
+void ChamberDem::feed() {
+  feed_credit_kg_ = std::min(feed_credit_kg_ + p_.feed.max_rate_kg_s * p_.bookkeeping_s, 4.0 * rock_mass_[0] + 1.0);
+  const auto& P = world_->particles();
+  const double z_lo = concave_origin_.z() + z_top_, z_hi = z_lo + p_.feed.choke_height_m;
+  // Solid volume held in the choke zone versus the zone's annular volume at the feed radii.
+  double solid = 0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.z[i] > z_lo && P.z[i] < z_hi + p_.feed.rock_size_m) solid += 4.0 / 3.0 * kPi * P.r[i] * P.r[i] * P.r[i];
+  const double zone = kPi * r_feed_out_ * r_feed_out_ * (p_.feed.choke_height_m + p_.feed.rock_size_m);
+  const double target = 0.35 * zone;  // a loose bed of rocks fills about a third of the zone
+  int tries = 0;
+  while (solid < target && fed_kg_ < p_.feed.max_fed_kg && tries < 12) {
+    const int shape = static_cast<int>(uniform() * rocks_.size()) % static_cast<int>(rocks_.size());
+    if (feed_credit_kg_ < rock_mass_[shape]) break;
+    ++tries;
+    const double phi = 2 * kPi * uniform();
+    const double rr = std::sqrt(r_feed_in_ * r_feed_in_ + uniform() * (r_feed_out_ * r_feed_out_ - r_feed_in_ * r_feed_in_));
+    const Eigen::Vector3d centre(concave_origin_.x() + rr * std::cos(phi), concave_origin_.y() + rr * std::sin(phi),
+                                 z_hi + 1.2 * p_.feed.rock_size_m);
+    Eigen::Quaterniond q(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+    q.normalize();
+    if (place_rock(shape, centre, q)) {
+      feed_credit_kg_ -= rock_mass_[shape];
+      solid += rock_mass_[shape] / 2600.0;
+    }
+  }
+}
+
+// Fragments whose centre has fallen below the chamber are screened and removed (section 4.1.3).
+void ChamberDem::discharge() {
+  const auto& P = world_->particles();
+  if (P.size() == 0) return;
+  std::vector<std::pair<uint64_t, uint64_t>> bonds;
+  for (const auto& b : world_->bonds())
+    if (b.alive) bonds.emplace_back(P.id[b.i], P.id[b.j]);
+  dem::Fragments frags(P.id, bonds);
+  const double z_out = concave_origin_.z() + z_bottom_ - p_.discharge_below_m;
+  const double far = 4.0 * (r_feed_out_ + p_.feed.rock_size_m) + 1.0;
+  std::vector<uint64_t> remove;
+  for (const auto& f : frags.info(P)) {
+    const Eigen::Vector3d d = f.centre - concave_origin_;
+    const bool lost = std::hypot(d.x(), d.y()) > far || f.centre.z() < z_out - 5.0;
+    if (f.centre.z() >= z_out && !lost) continue;
+    for (uint64_t id : frags.members(f.label)) remove.push_back(id);
+    if (lost) {
+      lost_kg_ += f.mass;
+      continue;
+    }
+    discharged_kg_ += f.mass;
+    ++fragments_out_;
+    discharge_log_.emplace_back(world_->time(), f.mass);
+    std::size_t k = std::lower_bound(p_.sieves_m.begin(), p_.sieves_m.end(), f.sieve_size * (1 - 1e-12)) -
+                    p_.sieves_m.begin();
+    screened_kg_[k] += f.mass;
+  }
+  if (!remove.empty()) world_->remove_particles_by_id(remove);
+}
+
+ProductState ChamberDem::product() const {
+  ProductState s;
+  s.sieve_m = p_.sieves_m;
+  double cum = 0;
+  for (std::size_t k = 0; k < p_.sieves_m.size(); ++k) {
+    cum += screened_kg_[k];
+    s.passing_pct.push_back(discharged_kg_ > 0 ? 100.0 * cum / discharged_kg_ : 0.0);
+  }
+  if (screened_kg_.back() > 0) {  // fragments above the largest sieve: report the top size too
+    s.sieve_m.push_back(2.0 * p_.sieves_m.back());
+    s.passing_pct.push_back(100.0);
+  }
+  s.fed_kg = fed_kg_;
+  s.discharged_kg = discharged_kg_;
+  s.lost_kg = lost_kg_;
+  const auto& P = world_->particles();
+  for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
+  const double t = world_->time(), w = std::min(p_.throughput_window_s, t);
+  double recent = 0;
+  for (auto it = discharge_log_.rbegin(); it != discharge_log_.rend() && it->first > t - w; ++it) recent += it->second;
+  s.throughput_kg_s = w > 0 ? recent / w : 0.0;
+  s.fragments_discharged = fragments_out_;
+  return s;
+}
+
+std::vector<dem::BondBreak> ChamberDem::take_breaks() {
+  std::vector<dem::BondBreak> out;
+  out.swap(breaks_);
+  return out;
+}
+
+std::vector<int> ChamberDem::fragment_labels() const {
+  const auto& P = world_->particles();
+  std::vector<std::pair<uint64_t, uint64_t>> bonds;
+  for (const auto& b : world_->bonds())
+    if (b.alive) bonds.emplace_back(P.id[b.i], P.id[b.j]);
+  dem::Fragments frags(P.id, bonds);
+  std::vector<int> out(P.size());
+  for (std::size_t i = 0; i < P.size(); ++i) out[i] = frags.fragment_of(P.id[i]);
+  return out;
+}
+
+double ChamberDem::rock_mass_kg(int shape) const { return rock_mass_.at(shape); }
+
+}  // namespace coupling

@@ -1,0 +1,108 @@
+#pragma once
+// The DEM side of the coupled crusher run (paper section 3.1, Figure 13): breakable rocks fed into the
+// chamber between the two moving liners, crushed, discharged below the chamber and screened.
+// ROS-free; dem_node is a thin adapter around it.
+//
+// Liner frames: origin at the centre of O1, z along the body's axis (core/chamber_geometry.hpp). The
+// mechanism reports each body by its centre of mass; the liner origin is com - R (0, 0, com_z).
+// Over one coupling interval the liners move rigidly with the twist given at its start (pose
+// extrapolated every DEM step), and the wrench on each liner is averaged over the interval.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "coupling/chamber_params.hpp"
+#include "dem/mesh_contact.hpp"
+#include "dem/region_map.hpp"
+#include "dem/world.hpp"
+#include "rocks/packing.hpp"
+
+namespace coupling {
+
+struct BodyMotion {  // centre of mass pose and twist, world frame
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angular_velocity = Eigen::Vector3d::Zero();
+};
+
+struct BodyWrench {  // about the body's centre of mass, world frame
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+};
+
+struct ProductState {
+  std::vector<double> sieve_m, passing_pct;  // cumulative mass passing, ascending sieves
+  double fed_kg = 0, discharged_kg = 0, in_chamber_kg = 0, lost_kg = 0;
+  double throughput_kg_s = 0;  // discharged mass rate over the last window
+  long fragments_discharged = 0;
+};
+
+struct TrackedPoint {
+  uint64_t id;
+  double t;
+  Eigen::Vector3d x;
+};
+
+class ChamberDem {
+ public:
+  explicit ChamberDem(const ChamberParams& p);
+
+  // Advances by `duration` (s) with the liners moving from the given states; returns the wrenches
+  // (mantle, concave) averaged over the interval, each about its body's centre of mass.
+  std::pair<BodyWrench, BodyWrench> advance(const BodyMotion& mantle, const BodyMotion& concave, double duration);
+
+  double time() const { return world_->time(); }
+  double dt() const { return world_->dt(); }
+  const dem::World& world() const { return *world_; }
+  const dem::MeshContact& mantle() const { return *mantle_; }
+  const dem::MeshContact& concave() const { return *concave_; }
+  const dem::MeshContact& mantle_cap() const { return *cap_; }
+  const dem::MeshContact& hopper() const { return *hopper_; }
+  const ChamberParams& params() const { return p_; }
+
+  ProductState product() const;
+  // Mean normal force on each concave region (N) since the last reset, ring-major (13 x 9).
+  std::vector<double> force_map() const { return force_avg_.mean(); }
+  void reset_force_map() { force_avg_.reset(); }
+  double force_map_window_s() const { return force_window_s_; }
+  // Break log since the last take (time, place, tensile or shear, particle ids).
+  std::vector<dem::BondBreak> take_breaks();
+  long broken_bonds() const { return broken_total_; }
+  // Fragment label of each particle (index order), for colouring.
+  std::vector<int> fragment_labels() const;
+  const std::vector<TrackedPoint>& trajectories() const { return tracks_; }
+  double rock_mass_kg(int shape) const;
+  int rock_shapes() const { return static_cast<int>(rocks_.size()); }
+
+ private:
+  void set_liners(const BodyMotion& m, const BodyMotion& c, double tau);
+  void bookkeeping();
+  void feed();
+  void discharge();
+  bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
+
+  ChamberParams p_;
+  std::unique_ptr<dem::World> world_;
+  std::shared_ptr<dem::MeshContact> mantle_, concave_, cap_, hopper_;  // cap rides the mantle, hopper the concave
+  std::vector<rocks::RockPacking> rocks_;
+  std::vector<double> rock_mass_;
+  dem::RegionAverager force_avg_;
+  double force_window_s_ = 0;
+  double z_top_ = 0, z_bottom_ = 0, r_feed_in_ = 0, r_feed_out_ = 0;
+  double dt_max_ = 0;
+  double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
+  double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0;
+  long fragments_out_ = 0, broken_total_ = 0;
+  std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])
+  std::vector<std::pair<double, double>> discharge_log_;  // (time, mass) for the throughput window
+  std::vector<std::pair<uint64_t, uint64_t>> bonds_by_id_;
+  std::vector<dem::BondBreak> breaks_;
+  std::vector<uint64_t> tracked_ids_;
+  std::vector<TrackedPoint> tracks_;
+  Eigen::Vector3d concave_origin_ = Eigen::Vector3d::Zero();
+  unsigned long long rng_state_;
+  double uniform();
+};
+
+}  // namespace coupling

@@ -1,0 +1,369 @@
+// dem_node: the ore as a bonded-particle DEM (coupling::ChamberDem) as a ROS node, the follower of the
+// lockstep coupling. Parameters: ~config (path, required), ~out (dir for dem.bag and breaks.csv).
+// Answers each /crusher/geometry_state with the time-averaged liner wrench for the same step, and publishes
+// particles, liners, the concave force map and the screened product at run.tf_hz of sim time.
+#include <inertia_crusher/ConcaveForceMap.h>
+#include <inertia_crusher/GeometryState.h>
+#include <inertia_crusher/GeometryWrench.h>
+#include <inertia_crusher/ProductStream.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <sys/stat.h>
+
+#include "core/run_config.hpp"
+#include "coupling/chamber_dem.hpp"
+#include "coupling/lockstep.hpp"
+#include "mbd/mechanism_params.hpp"
+#include "nodes/ros_common.hpp"
+
+namespace {
+
+double wall_now() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+struct Config {
+  core::RunOptions run;
+  core::CouplingOptions coupling;
+  coupling::ChamberParams chamber;
+};
+
+Config load_config(const std::string& path) {
+  auto root = core::ConfigNode::load_file(path);
+  Config c;
+  c.run = core::load_run_options(root.child("run"));
+  c.coupling = core::load_coupling_options(root.child_or_empty("coupling"));
+  auto mech = mbd::load_mechanism_params(root.child("mbd"));  // the liner geometry is the mechanism's
+  c.chamber = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
+                                            mech.fixed_cone.com_z_m);
+  root.finish();
+  return c;
+}
+
+coupling::BodyMotion motion(const geometry_msgs::Pose& pose, const geometry_msgs::Twist& tw) {
+  coupling::BodyMotion b;
+  nodes::from_pose(pose, &b.com, &b.orientation);
+  b.velocity = nodes::from_msg(tw.linear);
+  b.angular_velocity = nodes::from_msg(tw.angular);
+  return b;
+}
+
+std_msgs::ColorRGBA colour_of(int label) {  // distinct, stable colours per fragment
+  std_msgs::ColorRGBA c;
+  const double h = std::fmod(label * 0.61803398875, 1.0) * 6.0;
+  const double x = 1.0 - std::abs(std::fmod(h, 2.0) - 1.0);
+  double r = 0, g = 0, b = 0;
+  switch (static_cast<int>(h)) {
+    case 0: r = 1, g = x; break;
+    case 1: r = x, g = 1; break;
+    case 2: g = 1, b = x; break;
+    case 3: g = x, b = 1; break;
+    case 4: r = x, b = 1; break;
+    default: r = 1, b = x;
+  }
+  c.r = 0.25 + 0.75 * r;
+  c.g = 0.25 + 0.75 * g;
+  c.b = 0.25 + 0.75 * b;
+  c.a = 1.0;
+  return c;
+}
+
+class DemNode {
+ public:
+  DemNode(ros::NodeHandle& nh, Config cfg, std::string out) : cfg_(std::move(cfg)), out_(std::move(out)) {
+    ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
+    dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
+    ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
+    pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
+    pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);
+    pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
+    pub_product_ = nh.advertise<inertia_crusher::ProductStream>("/crusher/product", 100, true);
+    pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
+    pub_map_markers_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/concave_force_markers", 2, true);
+    sub_ = nh.subscribe("/crusher/geometry_state", 100, &DemNode::on_state, this, ros::TransportHints().tcpNoDelay());
+    if (!out_.empty()) {
+      bag_.open(out_ + "/dem.bag");
+      breaks_.open(out_ + "/breaks.csv");
+      breaks_ << "t_s,x_m,y_m,z_m,mode,id_i,id_j,sigma_Pa,tau_Pa\n";
+    }
+  }
+
+  int run() {
+    int status = 0;
+    last_heard_ = wall_now();
+    try {
+      while (!finished_) {
+        if (nodes::stop_requested() || !ros::ok()) {
+          ROS_WARN("dem_node: stopped; closing the bag");
+          break;
+        }
+        ros::spinOnce();
+        if (error_) throw std::runtime_error(*error_);
+        const double limit = follower_.last_answered() ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
+        if (wall_now() - last_heard_ > limit) {
+          throw std::runtime_error("no geometry state from mbd_node for " + std::to_string(limit) +
+                                   " s; is mbd_node running with run.load = dem on the same master?");
+        }
+        ros::WallDuration(2e-5).sleep();
+      }
+    } catch (const std::exception& e) {
+      ROS_ERROR("dem_node: %s; the bag and the break log are kept", e.what());
+      status = 1;
+    }
+    publish_outputs(true);
+    bag_.close();
+    const auto p = dem_->product();
+    ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg, "
+             "%.1f %% of the wall time in coupling waits", dem_->time(), dem_->world().particles().size(),
+             dem_->broken_bonds(), p.fed_kg, p.discharged_kg, 100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
+    return status;
+  }
+
+ private:
+  void on_state(const inertia_crusher::GeometryState::ConstPtr& g) {
+    const double now = wall_now();
+    wait_s_ += now - last_heard_;
+    last_heard_ = now;
+    if (g->finished) {
+      finished_ = true;
+      return;
+    }
+    try {
+      switch (follower_.on_request(g->step)) {
+        case coupling::Follower::Action::Ignore:
+          return;
+        case coupling::Follower::Action::Resend:
+          pub_wrench_.publish(last_);
+          return;
+        case coupling::Follower::Action::Advance:
+          break;
+      }
+      auto [wm, wc] = dem_->advance(motion(g->mantle_pose, g->mantle_twist),
+                                    motion(g->concave_pose, g->concave_twist), g->dt);
+      last_.header.stamp = ros::Time(g->time + g->dt);
+      last_.header.frame_id = "world";
+      last_.step = g->step;
+      last_.time = g->time + g->dt;
+      last_.mantle.force = nodes::to_msg(wm.force);
+      last_.mantle.torque = nodes::to_msg(wm.torque);
+      last_.concave.force = nodes::to_msg(wc.force);
+      last_.concave.torque = nodes::to_msg(wc.torque);
+      pub_wrench_.publish(last_);
+      follower_.answered(g->step);
+      bag_.write("/crusher/geometry_wrench", last_.header.stamp, last_);
+      if (dem_->time() >= next_output_ - 1e-12) {
+        publish_outputs(false);
+        next_output_ += 1.0 / cfg_.run.tf_hz;
+      }
+    } catch (const std::exception& e) {
+      error_ = e.what();
+    }
+    const double done = wall_now();
+    busy_s_ += done - now;
+    last_heard_ = done;
+  }
+
+  void publish_outputs(bool final_sample) {
+    const ros::Time stamp(dem_->time());
+    log_breaks();
+    // Product stream.
+    const auto p = dem_->product();
+    inertia_crusher::ProductStream ps;
+    ps.header.stamp = stamp;
+    for (double s : p.sieve_m) ps.sieve_mm.push_back(s * 1e3);
+    ps.passing_pct = p.passing_pct;
+    ps.throughput_tph = p.throughput_kg_s * 3.6;
+    ps.mass_discharged_kg = p.discharged_kg;
+    ps.mass_fed_kg = p.fed_kg;
+    ps.mass_in_chamber_kg = p.in_chamber_kg;
+    pub_product_.publish(ps);
+    bag_.write("/crusher/product", stamp, ps);
+    // Concave force map (mean over the window since the last output).
+    inertia_crusher::ConcaveForceMap fm;
+    fm.header.stamp = stamp;
+    fm.rings = cfg_.chamber.rings;
+    fm.sectors = cfg_.chamber.sectors;
+    fm.window_s = dem_->force_map_window_s();
+    fm.mean_normal_force = dem_->force_map();
+    dem_->reset_force_map();
+    pub_map_.publish(fm);
+    bag_.write("/crusher/concave_forces", stamp, fm);
+    if (final_sample) return;
+    pub_map_markers_.publish(force_map_markers(stamp, fm.mean_normal_force));
+    auto parts = particle_markers(stamp);
+    pub_particles_.publish(parts);
+    bag_.write("/crusher/particles", stamp, parts);
+    auto liners = liner_markers(stamp);
+    pub_liners_.publish(liners);
+    bag_.write("/crusher/liners", stamp, liners);
+  }
+
+  void log_breaks() {
+    for (const auto& b : dem_->take_breaks()) {
+      if (breaks_) {
+        breaks_ << b.t << "," << b.x[0] << "," << b.x[1] << "," << b.x[2] << "," << (b.tensile ? "tensile" : "shear")
+                << "," << b.id_i << "," << b.id_j << "," << b.sigma << "," << b.tau << "\n";
+      }
+    }
+  }
+
+  // SPHERE_LIST per radius bin (a marker has one scale), coloured by fragment.
+  visualization_msgs::MarkerArray particle_markers(const ros::Time& stamp) {
+    const auto& P = dem_->world().particles();
+    const auto labels = dem_->fragment_labels();
+    constexpr int kBins = 6;
+    double rmin = 1e9, rmax = 0;
+    for (double r : P.r) rmin = std::min(rmin, r), rmax = std::max(rmax, r);
+    visualization_msgs::MarkerArray arr;
+    for (int b = 0; b < kBins; ++b) {
+      visualization_msgs::Marker m;
+      m.header.stamp = stamp;
+      m.header.frame_id = "world";
+      m.ns = "particles";
+      m.id = b;
+      m.type = visualization_msgs::Marker::SPHERE_LIST;
+      m.action = visualization_msgs::Marker::ADD;
+      m.pose.orientation.w = 1;
+      const double r_b = rmin + (b + 0.5) * (rmax - rmin) / kBins;
+      m.scale.x = m.scale.y = m.scale.z = 2 * (P.size() ? r_b : 0.001);
+      m.color.a = 1;
+      arr.markers.push_back(m);
+    }
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      int b = rmax > rmin ? std::min(kBins - 1, static_cast<int>((P.r[i] - rmin) / (rmax - rmin) * kBins)) : 0;
+      geometry_msgs::Point q;
+      q.x = P.x[i];
+      q.y = P.y[i];
+      q.z = P.z[i];
+      arr.markers[b].points.push_back(q);
+      arr.markers[b].colors.push_back(colour_of(labels[i]));
+    }
+    for (auto& m : arr.markers)
+      if (m.points.empty()) m.action = visualization_msgs::Marker::DELETE;
+    return arr;
+  }
+
+  // One sphere per concave area P_{ring,sector} at its centre, coloured blue (low) to red (high force).
+  visualization_msgs::MarkerArray force_map_markers(const ros::Time& stamp, const std::vector<double>& force) {
+    const auto& mesh = dem_->concave().mesh();
+    const auto* regions = dem_->concave().regions();
+    std::vector<Eigen::Vector3d> centre(force.size(), Eigen::Vector3d::Zero());
+    std::vector<int> count(force.size(), 0);
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+      int r = regions->region_of(static_cast<int>(t));
+      if (r < 0) continue;
+      centre[r] += mesh.to_world(mesh.centroid(static_cast<int>(t)));
+      ++count[r];
+    }
+    double fmax = 1e-9;
+    for (double f : force) fmax = std::max(fmax, f);
+    visualization_msgs::Marker m;
+    m.header.stamp = stamp;
+    m.header.frame_id = "world";
+    m.ns = "concave_force_map";
+    m.type = visualization_msgs::Marker::SPHERE_LIST;
+    m.pose.orientation.w = 1;
+    m.scale.x = m.scale.y = m.scale.z = 0.04;
+    for (std::size_t r = 0; r < force.size(); ++r) {
+      if (!count[r]) continue;
+      geometry_msgs::Point q;
+      const Eigen::Vector3d c = centre[r] / count[r];
+      q.x = c.x();
+      q.y = c.y();
+      q.z = c.z();
+      std_msgs::ColorRGBA col;
+      col.r = force[r] / fmax;
+      col.b = 1.0 - col.r;
+      col.g = 0.2;
+      col.a = 1.0;
+      m.points.push_back(q);
+      m.colors.push_back(col);
+    }
+    visualization_msgs::MarkerArray arr;
+    arr.markers.push_back(m);
+    return arr;
+  }
+
+  visualization_msgs::MarkerArray liner_markers(const ros::Time& stamp) {
+    visualization_msgs::MarkerArray arr;
+    int id = 0;
+    for (const dem::MeshContact* mc : {&dem_->mantle(), &dem_->mantle_cap(), &dem_->concave(), &dem_->hopper()}) {
+      const bool moving = mc == &dem_->mantle() || mc == &dem_->mantle_cap();
+      visualization_msgs::Marker m;
+      m.header.stamp = stamp;
+      m.header.frame_id = "world";
+      m.ns = mc->mesh().name();
+      m.id = id++;
+      m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+      m.pose.orientation.w = 1;
+      m.scale.x = m.scale.y = m.scale.z = 1;
+      m.color.r = moving ? 0.75 : 0.55;
+      m.color.g = moving ? 0.55 : 0.6;
+      m.color.b = moving ? 0.3 : 0.7;
+      m.color.a = moving ? 1.0 : 0.35;
+      const auto& wv = mc->mesh().world_vertices();
+      for (const auto& tri : mc->mesh().triangles()) {
+        for (int k : tri) {
+          geometry_msgs::Point q;
+          q.x = wv[k].x();
+          q.y = wv[k].y();
+          q.z = wv[k].z();
+          m.points.push_back(q);
+        }
+      }
+      arr.markers.push_back(m);
+    }
+    return arr;
+  }
+
+  Config cfg_;
+  std::string out_;
+  std::unique_ptr<coupling::ChamberDem> dem_;
+  coupling::Follower follower_;
+  ros::Publisher pub_wrench_, pub_particles_, pub_liners_, pub_product_, pub_map_, pub_map_markers_;
+  ros::Subscriber sub_;
+  nodes::BagRecorder bag_;
+  std::ofstream breaks_;
+  inertia_crusher::GeometryWrench last_;
+  std::optional<std::string> error_;
+  bool finished_ = false;
+  double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "dem_node", ros::init_options::NoSigintHandler);
+  nodes::install_stop_handler();
+  ros::NodeHandle nh, pnh("~");
+  const std::string config_path = nodes::param_or(pnh, "config", std::string());
+  const std::string out = nodes::param_or(pnh, "out", std::string());
+  if (config_path.empty()) {
+    std::fprintf(stderr, "dem_node: parameter ~config is missing; usage: rosrun inertia_crusher dem_node "
+                         "_config:=launch_free_configs/quick_demo.yaml [_out:=DIR]\n");
+    return 2;
+  }
+  Config cfg;
+  try {
+    cfg = load_config(config_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dem_node: %s\n", e.what());
+    return 2;
+  }
+  if (!out.empty()) ::mkdir(out.c_str(), 0755);
+  try {
+    DemNode node(nh, std::move(cfg), out);
+    return node.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dem_node: %s\n", e.what());
+    return 2;
+  }
+}
