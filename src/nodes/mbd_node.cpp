@@ -106,10 +106,8 @@ class MbdNode {
     const double pub_dt = 1.0 / cfg_.run.publish_hz, tf_dt = 1.0 / cfg_.run.tf_hz;
     const bool coupled = cfg_.run.load == "dem";
     const long steps_per_coupling = coupled ? std::max(1L, std::lround(cfg_.coupling.dt_s / dt)) : 1;
-    double next_pub = 0, next_tf = 0, next_progress = 0;
-    publish_samples(true);
-    next_pub += pub_dt;
-    next_tf += tf_dt;
+    // Samples at t = k / publish_hz, k >= 1 (a bag cannot hold time 0, and sim time 0 means 'no clock yet').
+    double next_pub = pub_dt, next_tf = tf_dt, next_progress = 0;
     while (mech_->time() < t_end - 0.5 * dt) {
       if (nodes::stop_requested() || !ros::ok()) {
         ROS_WARN("mbd_node: stopped at t = %.4f s; closing the bag", mech_->time());
