@@ -133,12 +133,27 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
       (i == 0 ? r.train : r.heldout).push_back(std::move(d));
     }
   }
-  for (auto* set : {&r.train, &r.heldout})
-    for (auto& d : *set)
-      if (opt.setpoint_whole_rpm) {
-        const double rpm = 2 * 3.14159265358979323846 / 60;
-        d.setpoint = std::max(1.0, std::round(d.mean_speed / rpm)) * rpm;
-      }
+  if (!opt.setpoints_rad_s.empty() && opt.setpoints_rad_s.size() != recordings.size())
+    throw std::invalid_argument("diagnose: " + std::to_string(opt.setpoints_rad_s.size()) +
+                                " drive set points for " + std::to_string(recordings.size()) +
+                                " recordings; give one per recording or none");
+  auto setpoint_of = [&](std::size_t i) {
+    if (!opt.setpoints_rad_s.empty()) {
+      if (!(opt.setpoints_rad_s[i] > 0)) throw std::invalid_argument("diagnose: drive set points must be positive");
+      return opt.setpoints_rad_s[i];
+    }
+    const double mean = recordings[i].mean_speed_rad_s();
+    for (double s : opt.nominal_setpoints_rad_s)
+      if (std::abs(mean - s) <= 0.03 * s) return s;
+    const double rpm = 2 * 3.14159265358979323846 / 60;
+    return opt.setpoint_whole_rpm ? std::max(1.0, std::round(mean / rpm)) * rpm : mean;
+  };
+  if (recordings.size() == 1) {
+    for (auto* set : {&r.train, &r.heldout}) for (auto& d : *set) d.setpoint = setpoint_of(0);
+  } else {
+    r.train[0].setpoint = setpoint_of(0);
+    for (std::size_t i = 1; i < recordings.size(); ++i) r.heldout[i - 1].setpoint = setpoint_of(i);
+  }
   Evaluator ev{model, opt, {}, 0};
 
   // Locate: unchanged model, first without and then with the non-physical alignment.

@@ -30,8 +30,12 @@ struct DiagnosisOptions {
   double bic_threshold = 10.0;     // a candidate must lower BIC by this much (strong evidence, Kass-Raftery)
   double min_explained = 0.5;      // ... and remove this fraction of the structured residual, held out too
   double z_significance = 5.0;     // chi-square test of the residual against noise, in normal sigmas
-  // Drive set point of each recording: its mean speed rounded to whole rpm (plant drives are set in
-  // whole rpm; what is left is speed droop under load), or the mean speed itself (false).
+  // Drive set point of each recording (the model runs at it; with droop the speed falls below it):
+  //  1. setpoints_rad_s[i] for recording i when given (the plant's control system knows them);
+  //  2. else a nominal set point within 3 % of the recording's mean speed (e.g. the config's speed);
+  //  3. else the mean speed rounded to whole rpm (setpoint_whole_rpm) or the mean speed itself.
+  std::vector<double> setpoints_rad_s;
+  std::vector<double> nominal_setpoints_rad_s;
   bool setpoint_whole_rpm = true;
 };
 

@@ -36,8 +36,9 @@ namespace {
 const char* kUsage =
     "usage: diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR\n"
     "                [--model-seconds S (default 3)] [--settle-s S (default 4)] [--no-plots]\n"
-    "                [--setpoint whole-rpm|measured (drive set point: mean speed rounded to whole rpm,\n"
-    "                 default, so that droop shows; or the mean speed itself)]\n"
+    "                [--setpoint-rpm R (once per recording, in order: the drive set point)]\n"
+    "                [--setpoint whole-rpm|measured (without --setpoint-rpm: the config's speed when the\n"
+    "                 mean speed is within 3 % of it, else the mean rounded to whole rpm or the mean)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
     "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n";
 
@@ -145,6 +146,7 @@ int main(int argc, char** argv) {
   std::string config, out;
   double model_seconds = 3.0, settle_s = 4.0;
   bool plots = true, whole_rpm = true;
+  std::vector<double> setpoint_rpm;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -167,6 +169,7 @@ int main(int argc, char** argv) {
       else if (a == "--model-seconds") model_seconds = number(0.3, 60);
       else if (a == "--settle-s") settle_s = number(0, 60);
       else if (a == "--no-plots") plots = false;
+      else if (a == "--setpoint-rpm") setpoint_rpm.push_back(number(1, 5000));
       else if (a == "--setpoint") {
         const std::string v = value();
         if (v != "whole-rpm" && v != "measured")
@@ -193,6 +196,8 @@ int main(int argc, char** argv) {
     DiagnosisOptions opt;
     opt.model_seconds = model_seconds;
     opt.setpoint_whole_rpm = whole_rpm;
+    opt.nominal_setpoints_rad_s = {base.drive_speed_rad_s};
+    for (double rpm : setpoint_rpm) opt.setpoints_rad_s.push_back(rpm * 2.0 * M_PI / 60.0);
     std::cerr << "diagnose: " << recordings.size() << " recording(s), model " << config << "\n";
     DiagnosisResult r = diagnose(recordings, make_mbd_model(base, mo), mbd_candidates(), opt);
 

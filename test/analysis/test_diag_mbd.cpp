@@ -39,6 +39,13 @@ std::vector<Recording> make_recordings(const mbd::MechanismParams& base, const s
   return recs;
 }
 
+// The plant's control system knows the drive set points (400 and 600 rpm).
+DiagnosisOptions options() {
+  DiagnosisOptions o;
+  o.setpoints_rad_s = {400 * core::units::rpm, 600 * core::units::rpm};
+  return o;
+}
+
 }  // namespace
 
 struct MbdCase {
@@ -50,7 +57,7 @@ class DiagMbd : public ::testing::TestWithParam<MbdCase> {};
 TEST_P(DiagMbd, NamesEffectFitsParameterAndHalvesHeldOutError) {
   const auto c = GetParam();
   const auto base = base_params();
-  DiagnosisResult r = diagnose(make_recordings(base, c.effect, c.value), make_mbd_model(base), mbd_candidates());
+  DiagnosisResult r = diagnose(make_recordings(base, c.effect, c.value), make_mbd_model(base), mbd_candidates(), options());
   ASSERT_EQ(r.effect, c.effect) << r.reason << "\n" << diagnosis_markdown(r);
   const auto& fit = r.candidates[r.chosen];
   EXPECT_NEAR(fit.value, c.value, 0.15 * c.value);
@@ -66,13 +73,13 @@ TEST_P(DiagMbd, NamesEffectFitsParameterAndHalvesHeldOutError) {
 INSTANTIATE_TEST_SUITE_P(Effects, DiagMbd,
                          ::testing::Values(MbdCase{"joint_friction", 300.0},
                                            MbdCase{"absorber_nonlinearity", 5e10},
-                                           MbdCase{"motor_droop", 0.004},
+                                           MbdCase{"motor_droop", 0.2},
                                            MbdCase{"cardan_misalignment", 4.0}),
                          [](const auto& info) { return std::string(info.param.effect); });
 
 TEST(DiagMbd, NullRecordingClaimsNothing) {
   const auto base = base_params();
-  DiagnosisResult r = diagnose(make_recordings(base, "none", 0.0), make_mbd_model(base), mbd_candidates());
+  DiagnosisResult r = diagnose(make_recordings(base, "none", 0.0), make_mbd_model(base), mbd_candidates(), options());
   EXPECT_EQ(r.effect, "none") << r.reason << "\n" << diagnosis_markdown(r);
   EXPECT_EQ(r.chosen, -1);
   EXPECT_NEAR(r.before_train[0].alignment.gain, 0.97, 0.01);
