@@ -125,7 +125,7 @@ RockPacking pack_shape(const Shape& shape, const SizeDistribution& dist, const P
   const double vol = shape.volume();
   const Vec3 lo = shape.min_corner(), hi = shape.max_corner();
   const double min_extent = (hi - lo).minCoeff();
-  if (2.0 * dist.max_radius() > 0.5 * min_extent)
+  if (2.0 * dist.max_radius() > min_extent)
     throw std::invalid_argument("pack_shape: metaparticles (max radius " + std::to_string(dist.max_radius()) +
                                 " m) too large for shape '" + shape.name() + "'");
   Rng rng(o.seed);
@@ -195,7 +195,41 @@ RockPacking pack_shape(const Shape& shape, const SizeDistribution& dist, const P
   out.bond_gap_ratio = o.bond_gap_ratio;
   out.distribution = dist.describe();
   out.bonds = bond_neighbours(x, r, o.bond_gap_ratio);
+  keep_largest_cluster(out);
   return out;
+}
+
+void keep_largest_cluster(RockPacking& rock) {
+  const int n = static_cast<int>(rock.size());
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const auto& b : rock.bonds) {
+    const int a = find(b.first), c = find(b.second);
+    if (a != c) parent[std::max(a, c)] = std::min(a, c);
+  }
+  std::vector<int> size(n, 0);
+  for (int i = 0; i < n; ++i) ++size[find(i)];
+  const int root = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+  if (size[root] == n) return;
+  std::vector<int> map(n, -1);
+  int k = 0;
+  for (int i = 0; i < n; ++i)
+    if (find(i) == root) {
+      map[i] = k;
+      rock.positions[k] = rock.positions[i];
+      rock.radii[k] = rock.radii[i];
+      ++k;
+    }
+  rock.positions.resize(k);
+  rock.radii.resize(k);
+  std::vector<std::pair<int, int>> bonds;
+  for (const auto& b : rock.bonds)
+    if (map[b.first] >= 0) bonds.emplace_back(map[b.first], map[b.second]);
+  rock.bonds = std::move(bonds);
 }
 
 }  // namespace rocks

@@ -53,6 +53,10 @@ struct RockPacking {
 // on bad options and std::runtime_error if the residual overlap stays above max_overlap_accept.
 RockPacking pack_shape(const Shape& shape, const SizeDistribution& dist, const PackingOptions& options);
 
+// Drops every particle outside the largest bonded cluster (free metaparticles are not part of
+// the breakage particle); pack_shape does this last, so density() can end slightly below target.
+void keep_largest_cluster(RockPacking& rock);
+
 // Pairs (i < j, sorted) whose surface gap is <= gap_ratio * min(r_i, r_j) (overlaps included).
 std::vector<std::pair<int, int>> bond_neighbours(const std::vector<Vec3>& x, const std::vector<double>& r,
                                                  double gap_ratio);

@@ -81,8 +81,9 @@ TEST(Shape, CylinderAndRockMeshes) {
 }
 
 // Documented in src/rocks/README.md ("Reference rock"): irregular rock seed 1, nominal 50 mm,
-// paper_bimodal, density 0.62, packing seed 1, bond gap ratio 0.1 -> 3129 particles, 8091 bonds
-// (coordination 5.17), max residual overlap 1 % of the smaller radius.
+// paper_bimodal, density 0.62, packing seed 1, bond gap ratio 0.1 -> 3083 particles in the largest
+// bonded cluster (46 free fines dropped), density 0.617, 8083 bonds (coordination 5.24), max residual
+// overlap 1 % of the smaller radius.
 TEST(Packing, SeededRockIsAsDocumentedAndReproducible) {
   auto rock = make_irregular_rock(1, 50 * mm);
   PackingOptions o;
@@ -91,10 +92,10 @@ TEST(Packing, SeededRockIsAsDocumentedAndReproducible) {
   o.bond_gap_ratio = 0.1;
   const auto dist = SizeDistribution::preset("paper_bimodal");
   const RockPacking p = pack_shape(*rock, dist, o);
-  EXPECT_NEAR(p.density(), 0.62, 0.004);  // exact up to the last sphere drawn
-  EXPECT_NEAR(static_cast<double>(p.size()), 3129.0, 0.03 * 3129);
-  EXPECT_NEAR(static_cast<double>(p.bonds.size()), 8091.0, 0.04 * 8091);
-  EXPECT_NEAR(p.coordination(), 5.17, 0.2);
+  EXPECT_NEAR(p.density(), 0.617, 0.004);  // 0.62 drawn, less the free fines dropped
+  EXPECT_NEAR(static_cast<double>(p.size()), 3083.0, 0.03 * 3083);
+  EXPECT_NEAR(static_cast<double>(p.bonds.size()), 8083.0, 0.04 * 8083);
+  EXPECT_NEAR(p.coordination(), 5.24, 0.2);
   EXPECT_LE(p.max_overlap_ratio, 0.0101);
   for (std::size_t i = 0; i < p.size(); ++i) ASSERT_GE(rock->clearance(p.positions[i]), p.radii[i] * 0.98);
   // every bond joins near neighbours, and every near pair is bonded
