@@ -465,6 +465,8 @@ void World::pair_forces() {
   const uint32_t* IS = istart_.data();
   std::array<double, 3>* H = hist_.data();
   PairOut* O = pout_.data();
+  owner_sums_ = npairs_ > 0;
+  if (!owner_sums_) return;  // gravity is then added by gather_forces (one parallel region less)
   chunked(nt_, static_cast<long>(p_.size()), [&](long ib, long ie, int) {
     for (long i = ib; i < ie; ++i) {
       const double xi = x[i], yi = y[i], zi = z[i], ri = r[i], imi = im[i];
@@ -590,6 +592,7 @@ void World::gather_forces(bool kick, bool drift) {
   const double dt = prm_.dt, hdt = 0.5 * dt;
   const MaterialTable& mt = prm_.materials;
   const bool have_bonds = !bonds_.empty();
+  const bool owner_sums = owner_sums_;
   double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
   double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
   double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
@@ -604,8 +607,15 @@ void World::gather_forces(bool kick, bool drift) {
     double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
     double maxd2 = 0;
     for (long i = ib; i < ie; ++i) {
-      double f[3] = {fx[i], fy[i], fz[i]};
-      double t[3] = {tx[i], ty[i], tz[i]};
+      double f[3], t[3];
+      if (owner_sums) {
+        f[0] = fx[i]; f[1] = fy[i]; f[2] = fz[i];
+        t[0] = tx[i]; t[1] = ty[i]; t[2] = tz[i];
+      } else {
+        const double mi = p_.m[i];
+        f[0] = mi * prm_.gravity[0]; f[1] = mi * prm_.gravity[1]; f[2] = mi * prm_.gravity[2];
+        t[0] = t[1] = t[2] = 0.0;
+      }
       for (uint32_t s = jstart_[i]; s < jstart_[i + 1]; ++s) {
         const PairOut& o = pout_[jref_[s]];
         f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
@@ -629,7 +639,7 @@ void World::gather_forces(bool kick, bool drift) {
         const double dist = (x[i] - w.p[0]) * w.n[0] + (y[i] - w.p[1]) * w.n[1] + (z[i] - w.p[2]) * w.n[2];
         std::array<double, 3>& h = whist_[i * nw + k];
         if (dist >= p_.r[i]) {
-          h[0] = h[1] = h[2] = 0.0;
+          if (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0) h[0] = h[1] = h[2] = 0.0;  // no store when untouched
           continue;
         }
         const double* nn = w.n;

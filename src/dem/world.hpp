@@ -156,6 +156,7 @@ class World {
 
   std::vector<std::shared_ptr<Interaction>> interactions_;
   std::array<double, 7> phase_s_{};
+  bool owner_sums_ = false;  // pair_forces() wrote gravity + owner sums into f, t this step
 };
 
 }  // namespace dem
