@@ -98,6 +98,7 @@ void World::remove_particles(const std::vector<char>& remove) {
   }
   const std::vector<long> map = p_.compact(keep);
   whist_.resize(p_.size() * nw);
+  wtouch_.assign(p_.size(), 1);
   // bonds: drop those touching removed particles, renumber the rest
   std::size_t nb = 0;
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
@@ -164,6 +165,7 @@ void World::resize_per_particle() {
   x0_.resize(n);
   y0_.resize(n);
   z0_.resize(n);
+  wtouch_.assign(n, 1);
   n_known_ = n;
   bonds_dirty_ = true;
   need_rebuild_ = true;
@@ -181,6 +183,7 @@ int World::add_plane(const double point[3], const double normal[3], int material
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t w = 0; w < nw; ++w) h[i * (nw + 1) + w] = whist_[i * nw + w];
   whist_.swap(h);
+  wtouch_.assign(n, 1);
   return static_cast<int>(walls_.size()) - 1;
 }
 
@@ -603,6 +606,13 @@ void World::gather_forces(bool kick, bool drift) {
   const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
   std::fill(wforce_thr_.begin(), wforce_thr_.end(), 0.0);
   std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+  wplane_.resize(4 * nw);
+  for (std::size_t k = 0; k < nw; ++k) {
+    const PlanarWall& w = walls_[k];
+    for (int a = 0; a < 3; ++a) wplane_[4 * k + a] = w.n[a];
+    wplane_[4 * k + 3] = w.n[0] * w.p[0] + w.n[1] * w.p[1] + w.n[2] * w.p[2];
+  }
+  const double* wplane = wplane_.data();
   chunked(nt_, n, [&](long ib, long ie, int th) {
     double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
     double maxd2 = 0;
@@ -634,14 +644,21 @@ void World::gather_forces(bool kick, bool drift) {
           }
         }
       }
+      const char touched = wtouch_[i];
+      char touching = 0;
       for (std::size_t k = 0; k < nw; ++k) {
-        const PlanarWall& w = walls_[k];
-        const double dist = (x[i] - w.p[0]) * w.n[0] + (y[i] - w.p[1]) * w.n[1] + (z[i] - w.p[2]) * w.n[2];
-        std::array<double, 3>& h = whist_[i * nw + k];
-        if (dist >= p_.r[i]) {
-          if (h[0] != 0.0 || h[1] != 0.0 || h[2] != 0.0) h[0] = h[1] = h[2] = 0.0;  // no store when untouched
+        const double* wp = wplane + 4 * k;  // n, n . p
+        const double dist = x[i] * wp[0] + y[i] * wp[1] + z[i] * wp[2] - wp[3];
+        if (dist >= p_.r[i]) {  // no contact: clear the history (only read when the particle had wall contacts)
+          if (touched) {
+            std::array<double, 3>& h0 = whist_[i * nw + k];
+            h0[0] = h0[1] = h0[2] = 0.0;
+          }
           continue;
         }
+        touching = 1;
+        const PlanarWall& w = walls_[k];
+        std::array<double, 3>& h = whist_[i * nw + k];
         const double* nn = w.n;
         const double wxi = wx[i], wyi = wy[i], wzi = wz[i];
         // v_i + w_i x (-dist n) - v_wall
@@ -658,6 +675,7 @@ void World::gather_forces(bool kick, bool drift) {
         t[2] += -dist * (nn[0] * c.f[1] - nn[1] * c.f[0]) + c.troll[2];
         wf[3 * k] -= c.f[0]; wf[3 * k + 1] -= c.f[1]; wf[3 * k + 2] -= c.f[2];
       }
+      if (touched != touching) wtouch_[i] = touching;
       fx[i] = f[0]; fy[i] = f[1]; fz[i] = f[2];
       tx[i] = t[0]; ty[i] = t[1]; tz[i] = t[2];
       if (kick && !fixed[i]) {

@@ -146,6 +146,8 @@ class World {
   std::vector<PlanarWall> walls_;
   std::vector<std::array<double, 3>> whist_;  // [particle * n_walls + wall]
   std::vector<double> wforce_thr_;            // per thread partial wall forces
+  std::vector<char> wtouch_;                  // per particle: had a wall contact last step
+  std::vector<double> wplane_;                // per wall: n, n . p (fast distance test)
   std::vector<double> maxd_thr_;              // per thread max squared displacement since the last build
 
   // bonds
