@@ -51,7 +51,17 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) 
     rocks::PackingOptions po;
     po.density = p_.feed.packing_density;
     po.seed = p_.feed.seed + 101 * s;
-    rocks_.push_back(rocks::pack_shape(*shape, *p_.feed.metaparticles, po));
+    // A shape too small for a few coarse metaparticles at this density keeps overlaps: step the
+    // density down (by 0.03, to 0.30 at least) rather than refuse the run; packing_density() reports it.
+    for (;;) {
+      try {
+        rocks_.push_back(rocks::pack_shape(*shape, *p_.feed.metaparticles, po));
+        break;
+      } catch (const std::runtime_error&) {
+        if (po.density <= 0.3 + 1e-9) throw;
+        po.density = std::max(0.3, po.density - 0.03);
+      }
+    }
     double m = 0;
     for (double r : rocks_.back().radii) m += 2600.0 * 4.0 / 3.0 * kPi * r * r * r;
     rock_mass_.push_back(m);

@@ -73,6 +73,8 @@ class ChamberDem {
   std::vector<int> fragment_labels() const;
   const std::vector<TrackedPoint>& trajectories() const { return tracks_; }
   double rock_mass_kg(int shape) const;
+  std::size_t rock_particles(int shape) const { return rocks_.at(shape).size(); }
+  double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
 
  private:

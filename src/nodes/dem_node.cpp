@@ -81,6 +81,10 @@ class DemNode {
   DemNode(ros::NodeHandle& nh, Config cfg, std::string out) : cfg_(std::move(cfg)), out_(std::move(out)) {
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
+    for (int k = 0; k < dem_->rock_shapes(); ++k) {
+      ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f", k,
+               dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k));
+    }
     ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
     pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
     pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);

@@ -30,7 +30,7 @@ class BagRecorder {
   template <class M>
   void write(const std::string& topic, const ros::Time& t, const M& m) {
     if (!open_) return;
-    bag_.write(topic, t, m);
+    bag_.write(topic, t < ros::TIME_MIN ? ros::TIME_MIN : t, m);  // a bag cannot hold time 0
     ++count_[topic];
   }
   void close();
