@@ -38,7 +38,7 @@ double ChamberDem::uniform() {  // splitmix64: reproducible feed positions
   return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
 }
 
-ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) {
+ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params()), rng_state_(p.feed.seed) {
   core::validate_chamber_geometry(p_.chamber);
   auto mant = ascending(p_.chamber.mantle), conc = ascending(p_.chamber.concave);
   z_bottom_ = conc.front().z;
@@ -48,14 +48,13 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) 
   // Breakable rocks: four irregular shapes packed with metaparticles and bonded (section 2.4.1).
   for (int s = 0; s < p_.feed.shapes; ++s) {
     auto shape = rocks::make_irregular_rock(p_.feed.seed + 101 * s, rock, 22, "rock" + std::to_string(s));
-    rocks::PackingOptions po;
-    po.density = p_.feed.packing_density;
+    rocks::PackingOptions po = p_.bpm.packing;
     po.seed = p_.feed.seed + 101 * s;
     // A shape too small for a few coarse metaparticles at this density keeps overlaps: step the
     // density down (by 0.03, to 0.30 at least) rather than refuse the run; packing_density() reports it.
     for (;;) {
       try {
-        rocks_.push_back(rocks::pack_shape(*shape, *p_.feed.metaparticles, po));
+        rocks_.push_back(rocks::pack_shape(*shape, p_.bpm.metaparticles, po));
         break;
       } catch (const std::runtime_error&) {
         if (po.density <= 0.3 + 1e-9) throw;
@@ -70,7 +69,7 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) 
   // Time step from one bonded rock: the stiffer of Hertz (Rayleigh) and bond limits, with margin.
   dem::WorldParams wp;
   wp.threads = p_.threads;
-  wp.skin = 0.4 * p_.feed.metaparticles->max_radius();  // the world starts empty: no automatic skin
+  wp.skin = 0.4 * p_.bpm.metaparticles.max_radius();  // the world starts empty: no automatic skin
   wp.materials = dem::default_table4();
   double dt = p_.dt_s;
   {
@@ -83,7 +82,7 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), rng_state_(p.feed.seed) 
       w.add_particle(x, r0.radii[i], kRock);
     }
     std::vector<std::pair<std::size_t, std::size_t>> pairs(r0.bonds.begin(), r0.bonds.end());
-    w.bond_pairs(pairs, p_.bond);
+    w.bond_pairs(pairs, bond_);
     auto c = w.time_step_check();
     const double bound = std::min(wp.max_rayleigh_fraction * c.rayleigh, c.bond);
     if (dt <= 0) dt = 0.8 * bound;
@@ -213,7 +212,7 @@ bool ChamberDem::place_rock(int shape, const Eigen::Vector3d& centre, const Eige
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   pairs.reserve(rk.bonds.size());
   for (auto [i, j] : rk.bonds) pairs.emplace_back(first + i, first + j);
-  world_->bond_pairs(pairs, p_.bond);
+  world_->bond_pairs(pairs, bond_);
   fed_kg_ += rock_mass_[shape];
   return true;
 }

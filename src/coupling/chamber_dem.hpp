@@ -85,6 +85,7 @@ class ChamberDem {
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
 
   ChamberParams p_;
+  dem::BondParams bond_;
   std::unique_ptr<dem::World> world_;
   std::shared_ptr<dem::MeshContact> mantle_, concave_, cap_, hopper_;  // cap rides the mantle, hopper the concave
   std::vector<rocks::RockPacking> rocks_;

@@ -30,31 +30,26 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
   auto f = dem.child("feed");
   p.feed.shapes = f.integer_or("shapes", p.feed.shapes, 1, 16);
   p.feed.rock_size_m = f.number("rock_size_mm", 5, 300, "mm", u::mm);
-  p.feed.metaparticles = std::make_shared<rocks::SizeDistribution>(
-      rocks::SizeDistribution::from_config(f.child("metaparticles")));
-  p.feed.packing_density = f.number_or("packing_density", p.feed.packing_density, 0.3, 0.7);
   p.feed.seed = static_cast<unsigned long long>(f.integer_or("seed", 7, 0, 2147483647));
   p.feed.choke_height_m = f.number_or("choke_height_mm", p.feed.choke_height_m / u::mm, 0, 2000, "mm", u::mm);
   p.feed.max_rate_kg_s = f.number_or("max_rate_kg_s", p.feed.max_rate_kg_s, 0.01, 1e4, "kg/s");
   p.feed.drop_speed_m_s = f.number_or("drop_speed_m_s", p.feed.drop_speed_m_s, 0, 20, "m/s");
   p.feed.max_fed_kg = f.number_or("max_fed_kg", p.feed.max_fed_kg, 0, 1e9, "kg");
 
-  // BPM parameters (Table 4 names and units; the calibration writes these keys).
-  auto b = dem.child("bpm");
-  p.bond.kn = b.number("normal_stiffness_GPa_per_m", 1e-3, 1e4, "GPa/m", u::GPa_per_m);
-  p.bond.kt = b.number("shear_stiffness_GPa_per_m", 1e-3, 1e4, "GPa/m", u::GPa_per_m);
-  p.bond.sigma_c = b.number("normal_critical_stress_MPa", 1e-3, 1e4, "MPa", u::MPa);
-  p.bond.tau_c = b.number("shear_critical_stress_MPa", 1e-3, 1e4, "MPa", u::MPa);
-  if (b.has("bond_radius_mm")) {
-    p.bond.radius = b.number("bond_radius_mm", 0.01, 100, "mm", u::mm);
+  if (dem.has("bpm_file")) {
+    std::string f = dem.text("bpm_file");
+    if (!f.empty() && f[0] != '/') {
+      const auto& cfg = dem.file();
+      const auto slash = cfg.find_last_of('/');
+      if (slash != std::string::npos) f = cfg.substr(0, slash + 1) + f;
+    }
+    try {
+      p.bpm = rocks::load_bpm_model(f);
+    } catch (const std::exception& e) {
+      dem.fail("bpm_file", e.what());
+    }
   } else {
-    p.bond.radius_multiplier = b.number("bond_radius_multiplier", 0.05, 2.0);
-  }
-  p.bond.damping = b.number_or("damping_ratio", 0.0, 0, 1);
-  try {
-    p.bond.validate();
-  } catch (const std::invalid_argument& e) {
-    b.fail("", e.what());
+    p.bpm = rocks::bpm_model_from_config(dem.child("bpm"));
   }
   return p;
 }

@@ -3,25 +3,18 @@
 // breakable rocks, the discharge and its screening, and the concave force map (section 4.2.3).
 // Read from the `dem:` section of a run config; the liner profiles come from the `mbd:` section so
 // both solvers use one geometry.
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/chamber_geometry.hpp"
 #include "core/config.hpp"
-#include "dem/bonds.hpp"
-#include "rocks/size_distribution.hpp"
+#include "rocks/bpm_config.hpp"
 
 namespace coupling {
 
 struct FeedParams {
   int shapes = 4;                  // irregular rock shapes (section 2.4.1: four)
   double rock_size_m = 0.05;       // -50 mm feed (section 3.2)
-  // Metaparticle sizes (coarse-graining: the smallest fragment is one metaparticle, so they bound the
-  // finest product size; the bond parameters belong to the size they were calibrated with).
-  std::shared_ptr<rocks::SizeDistribution> metaparticles =
-      std::make_shared<rocks::SizeDistribution>(rocks::SizeDistribution::preset("crusher_coarse3"));
-  double packing_density = 0.60;   // solid fraction inside each rock
   unsigned long long seed = 7;
   double choke_height_m = 0.08;    // keep rock up to this height above the chamber top (choke feeding)
   double max_rate_kg_s = 40.0;     // upper bound of the feeder
@@ -37,7 +30,9 @@ struct ChamberParams {
   double dt_s = 0;                    // DEM step; 0: 0.8 x the engine's stable bound (Rayleigh, bonds)
   int threads = 0;                    // 0: all cores
   FeedParams feed;
-  dem::BondParams bond;               // BPM (Eq. 20-25), from the calibration
+  // The calibrated bonded-particle model: metaparticle sizes, packing and bonds (Eq. 20-25) belong
+  // together (coarse-graining: the smallest fragment is one metaparticle, which bounds the finest product).
+  rocks::BpmModel bpm;
   double discharge_below_m = 0.05;    // fragments whose centre falls this far below the chamber bottom leave
   std::vector<double> sieves_m{1e-3, 2e-3, 4e-3, 8e-3, 12e-3, 16e-3, 22.4e-3, 31.5e-3, 40e-3, 50e-3, 63e-3};
   int rings = 13, sectors = 9;        // concave force map (section 4.2.3)
@@ -47,6 +42,8 @@ struct ChamberParams {
 };
 
 // Reads the `dem:` mapping; `chamber` and the COM heights come from the mechanism parameters.
+// The BPM is `dem.bpm` (inline, rocks/bpm_config.hpp format) or `dem.bpm_file` (a file such as
+// bpm_calibrated.yaml written by the calibration, relative to the config's folder).
 ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::ChamberGeometry& chamber,
                                   double mantle_com_z_m, double concave_com_z_m);
 

@@ -18,17 +18,17 @@ coupling::ChamberParams small_chamber() {
   p.liner_sectors = 36;
   p.threads = 1;
   p.feed.rock_size_m = 0.03;
-  p.feed.metaparticles = std::make_shared<rocks::SizeDistribution>(
-      std::vector<rocks::SizeMode>{{4e-3, 0.4e-3, 1.0}});
+  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
   p.feed.choke_height_m = 0.03;
-  p.feed.packing_density = 0.45;  // few coarse spheres per rock cannot reach 0.6 without overlap
+  p.bpm.packing.density = 0.45;  // few coarse spheres per rock cannot reach 0.6 without overlap
   p.feed.max_fed_kg = 0.6;
   p.feed.drop_speed_m_s = 3.0;
-  p.bond.kn = 40e9;  // a tenth of Table 4's stiffness: a 3x longer stable step keeps the test short
-  p.bond.kt = 16e9;
-  p.bond.sigma_c = 25e6;
-  p.bond.tau_c = 9e6;
-  p.bond.radius_multiplier = 0.8;
+  p.bpm.bond.kn = 40e9;  // a tenth of Table 4's stiffness: a 3x longer stable step keeps the test short
+  p.bpm.bond.kt = 16e9;
+  p.bpm.bond.sigma_c = 25e6;  // Table 4 strengths
+  p.bpm.bond.tau_c = 9e6;
+  p.bpm.bond.disk_radius = 3.2e-3;  // 0.8 x the 4 mm metaparticle radius
+  p.bpm.bond.reference_radius = 4e-3;
   p.discharge_below_m = 0.02;
   return p;
 }
