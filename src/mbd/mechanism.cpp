@@ -69,6 +69,7 @@ struct Mechanism::Impl {
   LoadModel load;
   ChamberForces chamber;
   dWorldID world = nullptr;
+  dThreadingImplementationID threading = nullptr;
   dBodyID body[kBodyCount] = {};
   dJointID o1 = nullptr, o2 = nullptr, o3 = nullptr, o4_dist = nullptr, o4_rot = nullptr, o5 = nullptr,
            o6 = nullptr, o7 = nullptr;
@@ -93,7 +94,11 @@ struct Mechanism::Impl {
 
   explicit Impl(const MechanismParams& params, LoadModel l) : p(params), load(l), chamber(params) {}
   ~Impl() {
-    if (world) dWorldDestroy(world);
+    if (world) {
+      dWorldSetStepThreadingImplementation(world, nullptr, nullptr);
+      dWorldDestroy(world);
+    }
+    if (threading) dThreadingFreeImplementation(threading);
   }
 
   Eigen::Vector3d pos(int i) const { return vec(dBodyGetPosition(body[i])); }
@@ -136,6 +141,10 @@ void Mechanism::Impl::build() {
   init_ode();
   dAllocateODEDataForThread(dAllocateMaskAll);  // ODE needs per-thread data (callers may run in threads)
   world = dWorldCreate();
+  // Each world steps with its own (self-threaded) implementation: ODE's shared default one is not safe
+  // when two mechanisms step at the same time in different threads (the diagnosis fits in parallel).
+  threading = dThreadingAllocateSelfThreadedImplementation();
+  dWorldSetStepThreadingImplementation(world, dThreadingImplementationGetFunctions(threading), threading);
   dWorldSetGravity(world, 0, 0, -p.gravity_m_s2);
   dWorldSetERP(world, kErp);
   dWorldSetCFM(world, 1e-10);
