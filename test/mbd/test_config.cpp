@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/config.hpp"
+#include "core/run_config.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 
@@ -22,11 +23,9 @@ std::string read_400() {
 mbd::MechanismParams load_text(const std::string& text) {
   auto root = core::ConfigNode::load_string(text, "test.yaml");
   auto p = mbd::load_mechanism_params(root.child("mbd"));
-  auto run = root.child("run");
-  run.number("duration_s", 0, 1e9);
-  run.number("publish_hz", 0, 1e9);
-  run.number("tf_hz", 0, 1e9);
-  run.text("load");
+  core::load_run_options(root.child("run"));
+  core::load_coupling_options(root.child_or_empty("coupling"));
+  root.ignore("dem");  // dem_node's section
   root.finish();
   return p;
 }
