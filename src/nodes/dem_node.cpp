@@ -167,12 +167,26 @@ class DemNode {
         publish_outputs(false);
         next_output_ += 1.0 / cfg_.run.tf_hz;
       }
+      report_progress();
     } catch (const std::exception& e) {
       error_ = e.what();
     }
     const double done = wall_now();
     busy_s_ += done - now;
     last_heard_ = done;
+  }
+
+  // Progress for the person waiting: sim time, percent, ETA, particles, broken bonds (every 5 s of wall time).
+  void report_progress() {
+    const double now = wall_now();
+    if (start_wall_ == 0) start_wall_ = now;
+    if (now < next_progress_) return;
+    next_progress_ = now + 5.0;
+    const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_;
+    const auto p = dem_->product();
+    ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %.0f s, %zu particles, %ld broken bonds, fed %.1f kg, "
+             "discharged %.2f kg", t, T, 100.0 * t / T, t > 0 ? el * (T - t) / t : 0.0,
+             dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg);
   }
 
   void publish_outputs(bool final_sample) {
@@ -339,7 +353,7 @@ class DemNode {
   inertia_crusher::GeometryWrench last_;
   std::optional<std::string> error_;
   bool finished_ = false;
-  double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0;
+  double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0, start_wall_ = 0, next_progress_ = 0;
 };
 
 }  // namespace
