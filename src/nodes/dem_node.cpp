@@ -25,11 +25,6 @@
 
 namespace {
 
-double wall_now() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-
 struct Config {
   core::RunOptions run;
   core::CouplingOptions coupling;
@@ -102,7 +97,7 @@ class DemNode {
 
   int run() {
     int status = 0;
-    last_heard_ = wall_now();
+    last_heard_ = nodes::wall_now();
     try {
       while (!finished_) {
         if (nodes::stop_requested() || !ros::ok()) {
@@ -112,7 +107,7 @@ class DemNode {
         ros::spinOnce();
         if (error_) throw std::runtime_error(*error_);
         const double limit = follower_.last_answered() ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
-        if (wall_now() - last_heard_ > limit) {
+        if (nodes::wall_now() - last_heard_ > limit) {
           throw std::runtime_error("no geometry state from mbd_node for " + std::to_string(limit) +
                                    " s; is mbd_node running with run.load = dem on the same master?");
         }
@@ -133,7 +128,7 @@ class DemNode {
 
  private:
   void on_state(const inertia_crusher::GeometryState::ConstPtr& g) {
-    const double now = wall_now();
+    const double now = nodes::wall_now();
     wait_s_ += now - last_heard_;
     last_heard_ = now;
     if (g->finished) {
@@ -171,14 +166,14 @@ class DemNode {
     } catch (const std::exception& e) {
       error_ = e.what();
     }
-    const double done = wall_now();
+    const double done = nodes::wall_now();
     busy_s_ += done - now;
     last_heard_ = done;
   }
 
   // Progress for the person waiting: sim time, percent, ETA, particles, broken bonds (every 5 s of wall time).
   void report_progress() {
-    const double now = wall_now();
+    const double now = nodes::wall_now();
     if (start_wall_ == 0) start_wall_ = now;
     if (now < next_progress_) return;
     next_progress_ = now + 5.0;

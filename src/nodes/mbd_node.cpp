@@ -57,11 +57,6 @@ Config load_config(const std::string& path, const std::string& load_override, do
   return c;
 }
 
-double wall_now() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-
 class MbdNode {
  public:
   MbdNode(ros::NodeHandle& nh, Config cfg, std::string out_dir, std::string config_path, double max_rtf)
@@ -85,7 +80,7 @@ class MbdNode {
 
   // Runs to the end (or until stopped); returns the exit status.
   int run() {
-    const double t0 = wall_now();
+    const double t0 = nodes::wall_now();
     wall_start_ = t0;
     int status = 0;
     try {
@@ -94,7 +89,7 @@ class MbdNode {
       ROS_ERROR("mbd_node: %s (t = %.4f s); the bag and the partial summary are kept", e.what(), mech_->time());
       status = 1;
     }
-    wall_s_ = wall_now() - t0;
+    wall_s_ = nodes::wall_now() - t0;
     finish();
     return status;
   }
@@ -124,7 +119,7 @@ class MbdNode {
           next_pub += pub_dt;
           if (with_tf) next_tf += tf_dt;
           if (max_rtf_ > 0) {
-            double ahead = t / max_rtf_ - (wall_now() - wall_start_);
+            double ahead = t / max_rtf_ - (nodes::wall_now() - wall_start_);
             if (ahead > 0) ros::WallDuration(ahead).sleep();
           }
         }
@@ -138,12 +133,12 @@ class MbdNode {
 
   // Lockstep: send liner poses for this step, wait for the DEM's time-averaged wrench, apply it.
   void exchange(double coupling_dt) {
-    std::uint64_t step = leader_.request(wall_now());
+    std::uint64_t step = leader_.request(nodes::wall_now());
     send_geometry(step, coupling_dt);
     while (leader_.pending()) {
       ros::spinOnce();
       if (!leader_.pending()) break;
-      const double now = wall_now();
+      const double now = nodes::wall_now();
       if (nodes::stop_requested() || !ros::ok()) throw std::runtime_error("stopped while waiting for dem_node");
       leader_.check_timeout(now);
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
@@ -173,7 +168,7 @@ class MbdNode {
   }
 
   void on_wrench(const inertia_crusher::GeometryWrench::ConstPtr& w) {
-    if (!leader_.answer(w->step, wall_now())) return;  // a duplicate of an answered step
+    if (!leader_.answer(w->step, nodes::wall_now())) return;  // a duplicate of an answered step
     wrench_.mantle_force = nodes::from_msg(w->mantle.force);
     wrench_.mantle_torque = nodes::from_msg(w->mantle.torque);
     wrench_.concave_force = nodes::from_msg(w->concave.force);
@@ -267,8 +262,8 @@ class MbdNode {
 
   void finish() {
     if (cfg_.run.load == "dem") {
-      const double until = wall_now() + 1.0;  // collect the DEM's last product message
-      while (wall_now() < until) {
+      const double until = nodes::wall_now() + 1.0;  // collect the DEM's last product message
+      while (nodes::wall_now() < until) {
         ros::spinOnce();
         ros::WallDuration(0.01).sleep();
       }

@@ -1,5 +1,6 @@
 #include "nodes/ros_common.hpp"
 
+#include <chrono>
 #include <csignal>
 
 namespace nodes {
@@ -61,6 +62,11 @@ void install_stop_handler() {
 }
 
 bool stop_requested() { return g_stop != 0; }
+
+double wall_now() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
 
 std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback) {
   std::string v;

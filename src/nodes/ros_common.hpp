@@ -47,6 +47,9 @@ class BagRecorder {
 void install_stop_handler();
 bool stop_requested();
 
+// Monotonic wall-clock seconds (coupling timeouts, progress, real-time factor).
+double wall_now();
+
 // Reads a private parameter as string ("" when unset).
 std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback);
 double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback);

@@ -4,17 +4,8 @@
 #  1. check_coupled_run.py asserts on the bags (no step missing or duplicated, wrenches, mass balance, PSD);
 #  2. rviz with rviz/crusher.rviz under Xvfb, fed by the recorded dem.bag, is screenshot and the picture's
 #     pixels must show the particles and the liners.
-set -euo pipefail
-export PATH=/usr/bin:/bin:$PATH
-setup=$CRUSHER_BUILD_DIR/../devel/setup.bash
-[[ -f $setup ]] || setup=$CRUSHER_BUILD_DIR/devel/setup.bash
-set +u; source "$setup"; set -u
-src=$CRUSHER_SOURCE_DIR
-out=$(mktemp -d)
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 2>/dev/null || true; rm -rf "$out"; }
-trap cleanup EXIT
-export ROS_LOG_DIR=$out/log OMP_WAIT_POLICY=passive
+source "$(dirname "$0")/ros_env.bash"
+export OMP_WAIT_POLICY=passive
 
 # A short case of the quick demo: 0.6 s, a small charge.
 /usr/bin/python3 - "$src/launch_free_configs/quick_demo.yaml" "$out/case.yaml" <<'PY'
@@ -24,11 +15,7 @@ c["run"].update(duration_s=0.6, settle_s=0.3, tf_hz=20)
 c["dem"]["feed"].update(max_fed_kg=6.0, drop_speed_m_s=3.0)
 yaml.safe_dump(c, open(sys.argv[2], "w"))
 PY
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$port ROS_HOSTNAME=127.0.0.1
-rosmaster --core -p "$port" >"$out/master.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 100); do rosparam set /use_sim_time true 2>/dev/null && break; sleep 0.1; done
+start_master
 rosrun inertia_crusher dem_node _config:="$out/case.yaml" _out:="$out/run" >"$out/dem.log" 2>&1 &
 dem_pid=$!
 pids+=($dem_pid)

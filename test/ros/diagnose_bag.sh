@@ -1,22 +1,8 @@
 #!/usr/bin/env bash
 # The diagnosis reads a bag recorded by mbd_node: a run of the base model itself must be diagnosed as
 # `none` (nothing missing), and a run with a concealed effect (motor droop) must be named.
-set -euo pipefail
-export PATH=/usr/bin:/bin:$PATH
-setup=$CRUSHER_BUILD_DIR/../devel/setup.bash
-[[ -f $setup ]] || setup=$CRUSHER_BUILD_DIR/devel/setup.bash
-set +u; source "$setup"; set -u
-src=$CRUSHER_SOURCE_DIR
-out=$(mktemp -d)
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 2>/dev/null || true; rm -rf "$out"; }
-trap cleanup EXIT
-export ROS_LOG_DIR=$out/log
-port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$port ROS_HOSTNAME=127.0.0.1
-rosmaster --core -p "$port" >"$out/master.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 1 100); do rosparam set /use_sim_time true 2>/dev/null && break; sleep 0.1; done
+source "$(dirname "$0")/ros_env.bash"
+start_master
 base=$src/launch_free_configs/gyp1200_400rpm.yaml
 # The plant: the base model with the motor's speed drooping under load (the paper assumes a stable speed).
 /usr/bin/python3 - "$base" "$out/plant.yaml" <<'PY'

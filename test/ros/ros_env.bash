@@ -1,0 +1,23 @@
+# Sourced by the test/ros/*.sh tests: the package's environment, a scratch folder removed on exit,
+# background processes stopped on exit, and a private ROS master on a free port.
+set -euo pipefail
+export PATH=/usr/bin:/bin:$PATH
+setup=$CRUSHER_BUILD_DIR/../devel/setup.bash
+[[ -f $setup ]] || setup=$CRUSHER_BUILD_DIR/devel/setup.bash
+set +u; source "$setup"; set -u
+src=$CRUSHER_SOURCE_DIR
+out=$(mktemp -d)
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; wait 2>/dev/null || true; rm -rf "$out"; }
+trap cleanup EXIT
+export ROS_LOG_DIR=$out/log
+
+start_master() {  # private master with sim time on
+  local port
+  port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+  export ROS_MASTER_URI=http://127.0.0.1:$port ROS_HOSTNAME=127.0.0.1
+  rosmaster --core -p "$port" >"$out/master.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 1 100); do rosparam set /use_sim_time true 2>/dev/null && return 0; sleep 0.1; done
+  echo "FAIL: the ROS master did not start"; exit 1
+}
