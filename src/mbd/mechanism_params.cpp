@@ -1,5 +1,7 @@
 #include "mbd/mechanism_params.hpp"
 
+#include "core/run_config.hpp"
+
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -368,6 +370,16 @@ std::string to_yaml(const MechanismParams& p) {
     << "    cardan_misalignment: {enabled: " << (e.cardan_misalignment.enabled ? "true" : "false")
     << ", angle_deg: " << e.cardan_misalignment.angle_rad / u::deg << "}\n";
   return y.str();
+}
+
+MechanismParams load_mechanism_params_file(const std::string& path) {
+  auto root = core::ConfigNode::load_file(path);
+  auto p = load_mechanism_params(root.child("mbd"));
+  if (root.has("run")) core::load_run_options(root.child("run"));
+  core::load_coupling_options(root.child_or_empty("coupling"));
+  root.ignore("dem");
+  root.finish();
+  return p;
 }
 
 }  // namespace mbd

@@ -112,6 +112,10 @@ struct MechanismParams {
 
 // Reads the `mbd:` mapping of a run config (the caller calls finish() on the root).
 MechanismParams load_mechanism_params(const core::ConfigNode& mbd_section);
+// Loads the `mbd:` section of a run configuration file and checks the rest of the file the way the
+// nodes read it (run:, coupling:; the dem: section belongs to dem_node): for tools that need only the
+// mechanism (benchmarks, diagnosis, recording generator).
+MechanismParams load_mechanism_params_file(const std::string& path);
 // Whole-parameter checks (ranges, geometry order, time step vs the stiffest element).
 // Throws std::invalid_argument naming the key (mbd.<...>), the value and the accepted range.
 void validate(const MechanismParams& p);

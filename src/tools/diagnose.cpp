@@ -182,11 +182,8 @@ int main(int argc, char** argv) {
     if (recs.empty() || config.empty() || out.empty())
       throw std::invalid_argument("--recording, --config and --out are required");
 
-    core::ConfigNode root = core::ConfigNode::load_file(config);
-    const mbd::MechanismParams base = mbd::load_mechanism_params(root.child("mbd"));
-    for (const auto& kv : root.raw())
-      if (kv.first.as<std::string>() != "mbd") root.ignore(kv.first.as<std::string>());
-    root.finish();
+    const mbd::MechanismParams base = mbd::load_mechanism_params_file(config);
+    const core::ConfigNode root = core::ConfigNode::load_file(config);  // its run: section goes into fitted.yaml
 
     std::vector<Recording> recordings;
     for (const auto& f : recs) recordings.push_back(read_any(f));

@@ -59,8 +59,7 @@ int main(int argc, char** argv) {
     }
     if (config.empty() || effect.empty() || out.empty()) throw std::invalid_argument("--config, --effect and --out are required");
     if (effect != "none" && !have_value) throw std::invalid_argument("--value is required with --effect " + effect);
-    core::ConfigNode root = core::ConfigNode::load_file(config);
-    mbd::MechanismParams p = mbd::load_mechanism_params(root.child("mbd"));
+    mbd::MechanismParams p = mbd::load_mechanism_params_file(config);
     p = with_effect(p, effect, value);
     if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
     mbd::validate(p);

@@ -56,15 +56,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    auto root = core::ConfigNode::load_file(config);
-    auto params = mbd::load_mechanism_params(root.child("mbd"));
-    if (root.has("run")) {  // consumed by the node; read here only so finish() accepts them
-      auto run = root.child("run");
-      for (const char* k : {"duration_s", "publish_hz", "tf_hz"})
-        if (run.has(k)) run.number(k, 0, 1e9);
-      if (run.has("load")) run.choice("load", {"none", "bed", "dem"});
-    }
-    root.finish();
+    auto params = mbd::load_mechanism_params_file(config);
     if (rpm > 0) params.drive_speed_rad_s = rpm * 2.0 * M_PI / 60.0;
     if (static_moment >= 0) params.vibrator_static_moment_kg_m = static_moment;
     if (viscosity >= 0) params.bed.viscosity_Pa_s = viscosity * 1e3;

@@ -132,3 +132,12 @@ TEST(MbdConfig, ValidateRejectsBadParamsDirectly) {
 }
 
 }  // namespace
+
+TEST(MbdConfig, ToolsLoadEveryShippedRunConfig) {
+  // The tools (bench, diagnosis, generator) read the same files as the nodes: run, coupling, dem sections.
+  for (const char* f : {"gyp1200_400rpm.yaml", "gyp1200_600rpm.yaml", "quick_demo.yaml"}) {
+    EXPECT_NO_THROW(mbd::load_mechanism_params_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + f))
+        << f;
+  }
+  EXPECT_THROW(mbd::load_mechanism_params_file("/nonexistent.yaml"), core::ConfigError);
+}
