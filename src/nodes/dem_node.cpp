@@ -119,6 +119,7 @@ class DemNode {
     }
     publish_outputs(true);
     bag_.close();
+    write_trajectories();
     const auto p = dem_->product();
     ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg, "
              "%.1f %% of the wall time in coupling waits", dem_->time(), dem_->world().particles().size(),
@@ -169,6 +170,15 @@ class DemNode {
     const double done = nodes::wall_now();
     busy_s_ += done - now;
     last_heard_ = done;
+  }
+
+  // Trajectories of a few tracked particles (section 4.2.2, Figure 20), one row per bookkeeping sample.
+  void write_trajectories() {
+    if (out_.empty()) return;
+    std::ofstream f(out_ + "/trajectories.csv");
+    f << "particle_id,t_s,x_m,y_m,z_m\n";
+    for (const auto& p : dem_->trajectories())
+      f << p.id << "," << p.t << "," << p.x.x() << "," << p.x.y() << "," << p.x.z() << "\n";
   }
 
   // Progress for the person waiting: sim time, percent, ETA, particles, broken bonds (every 5 s of wall time).

@@ -14,25 +14,31 @@ import rosbag  # noqa: E402
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--bag", required=True)
+    ap.add_argument("--bag", required=True, action="append", help="run.bag, and dem.bag for coupled runs")
     ap.add_argument("--summary")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
     t, d, tp, p = [], [], [], []
     psd, fmap = None, None
-    with rosbag.Bag(a.bag) as bag:
-        for topic, m, _ in bag.read_messages(topics=["/crusher/test_point", "/crusher/drive",
-                                                     "/crusher/product", "/crusher/concave_forces"]):
-            if topic == "/crusher/test_point":
-                t.append(m.header.stamp.to_sec())
-                d.append((m.displacement.x * 1e3, m.displacement.y * 1e3, m.displacement.z * 1e3))
-            elif topic == "/crusher/drive":
-                tp.append(m.header.stamp.to_sec())
-                p.append(m.power * 1e-3)
-            elif topic == "/crusher/product":
-                psd = (list(m.sieve_mm), list(m.passing_pct))
-            else:
-                fmap = (m.rings, m.sectors, list(m.mean_normal_force))
+    maps = []
+    for path in a.bag:
+        with rosbag.Bag(path) as bag:
+            for topic, m, _ in bag.read_messages(topics=["/crusher/test_point", "/crusher/drive",
+                                                         "/crusher/product", "/crusher/concave_forces"]):
+                if topic == "/crusher/test_point":
+                    t.append(m.header.stamp.to_sec())
+                    d.append((m.displacement.x * 1e3, m.displacement.y * 1e3, m.displacement.z * 1e3))
+                elif topic == "/crusher/drive":
+                    tp.append(m.header.stamp.to_sec())
+                    p.append(m.power * 1e-3)
+                elif topic == "/crusher/product":
+                    psd = (list(m.sieve_mm), list(m.passing_pct))
+                else:
+                    maps.append((m.rings, m.sectors, m.window_s, list(m.mean_normal_force)))
+    if maps:  # time-weighted mean over the run of the windowed means
+        rings, sectors = maps[-1][0], maps[-1][1]
+        wsum = sum(w for _, _, w, _ in maps) or 1.0
+        fmap = (rings, sectors, [sum(w * f[k] for _, _, w, f in maps) / wsum for k in range(rings * sectors)])
     if t:
         fig, ax = plt.subplots(3, 1, sharex=True, figsize=(8, 6))
         for i, name in enumerate("xyz"):
@@ -63,6 +69,9 @@ def main():
         im = ax.imshow(grid, aspect="auto", cmap="viridis")
         ax.set_xlabel("sector")
         ax.set_ylabel("ring (top to bottom)")
+        ax.set_xticks(range(sectors), [str(k + 1) for k in range(sectors)])
+        ax.set_yticks(range(rings), [str(k + 1) for k in range(rings)])
+        ax.set_title("concave crushing force, areas P_{ring,sector}")
         fig.colorbar(im, label="mean normal force (kN)")
         fig.savefig(os.path.join(a.out, "concave_forces.png"), dpi=110)
     if a.summary and os.path.exists(a.summary):
