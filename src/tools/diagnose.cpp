@@ -18,6 +18,7 @@
 
 #include "analysis/diagnosis.hpp"
 #include "analysis/mbd_model.hpp"
+#include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "mbd/mechanism_params.hpp"
 
@@ -148,21 +149,11 @@ int main(int argc, char** argv) {
   bool plots = true, whole_rpm = true;
   std::vector<double> setpoint_rpm;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
-      auto number = [&](double lo, double hi) {
-        const std::string v = value();
-        char* end = nullptr;
-        const double x = std::strtod(v.c_str(), &end);
-        if (!end || *end || !(x >= lo && x <= hi))
-          throw std::invalid_argument(a + " " + v + ": accepted a number in [" + std::to_string(lo) + ", " +
-                                      std::to_string(hi) + "]");
-        return x;
-      };
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      auto value = [&] { return args.value(); };
+      auto number = [&](double lo, double hi) { return args.number(lo, hi); };
       if (a == "--recording") recs.push_back(value());
       else if (a == "--config") config = value();
       else if (a == "--out") out = value();

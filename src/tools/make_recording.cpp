@@ -9,6 +9,7 @@
 
 #include "analysis/mbd_model.hpp"
 #include "analysis/sensor_model.hpp"
+#include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "core/units.hpp"
 #include "mbd/simulate.hpp"
@@ -28,21 +29,11 @@ int main(int argc, char** argv) {
   e.noise_rel = 0.01;
   bool have_value = false;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto str = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-        return argv[++i];
-      };
-      auto num = [&](double lo, double hi) {
-        const std::string v = str();
-        char* end = nullptr;
-        const double x = std::strtod(v.c_str(), &end);
-        if (!end || *end || !(x >= lo && x <= hi))
-          throw std::invalid_argument(a + " " + v + ": accepted a number in [" + std::to_string(lo) + ", " +
-                                      std::to_string(hi) + "]");
-        return x;
-      };
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      auto str = [&] { return args.value(); };
+      auto num = [&](double lo, double hi) { return args.number(lo, hi); };
       if (a == "--config") config = str();
       else if (a == "--effect") effect = str();
       else if (a == "--value") { value = num(-1e15, 1e15); have_value = true; }
