@@ -250,10 +250,7 @@ void ChamberDem::feed() {
 void ChamberDem::discharge() {
   const auto& P = world_->particles();
   if (P.size() == 0) return;
-  std::vector<std::pair<uint64_t, uint64_t>> bonds;
-  for (const auto& b : world_->bonds())
-    if (b.alive) bonds.emplace_back(P.id[b.i], P.id[b.j]);
-  dem::Fragments frags(P.id, bonds);
+  const auto frags = dem::Fragments::from_bonds(P, world_->bonds());
   const double z_out = concave_origin_.z() + z_bottom_ - p_.discharge_below_m;
   const double far = 4.0 * (r_feed_out_ + p_.feed.rock_size_m) + 1.0;
   std::vector<uint64_t> remove;
@@ -309,10 +306,7 @@ std::vector<dem::BondBreak> ChamberDem::take_breaks() {
 
 std::vector<int> ChamberDem::fragment_labels() const {
   const auto& P = world_->particles();
-  std::vector<std::pair<uint64_t, uint64_t>> bonds;
-  for (const auto& b : world_->bonds())
-    if (b.alive) bonds.emplace_back(P.id[b.i], P.id[b.j]);
-  dem::Fragments frags(P.id, bonds);
+  const auto frags = dem::Fragments::from_bonds(P, world_->bonds());
   std::vector<int> out(P.size());
   for (std::size_t i = 0; i < P.size(); ++i) out[i] = frags.fragment_of(P.id[i]);
   return out;

@@ -99,7 +99,6 @@ class ChamberDem {
   long fragments_out_ = 0, broken_total_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])
   std::vector<std::pair<double, double>> discharge_log_;  // (time, mass) for the throughput window
-  std::vector<std::pair<uint64_t, uint64_t>> bonds_by_id_;
   std::vector<dem::BondBreak> breaks_;
   std::vector<uint64_t> tracked_ids_;
   std::vector<TrackedPoint> tracks_;
