@@ -277,7 +277,7 @@ class MbdNode {
     s.load = cfg_.run.load;
     if (product_) s.product = product_;
     std::ofstream(out_ + "/summary.json") << analysis::to_json(s);
-    ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.1fx real time); amplitude x %.3f mm, power %.2f kW",
+    ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.3gx real time); amplitude x %.3f mm, power %.2f kW",
              s.simulated_s, wall_s_, s.simulated_s / std::max(wall_s_, 1e-9), s.amplitude_x_mm.mean,
              s.power_kW.mean);
   }
