@@ -15,11 +15,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kRock = 0, kSteel = 1;  // dem::default_table4() indices
 
-// Profile sorted bottom to top, as revolve_profile expects for outward normals.
+// Profile points bottom to top (z is monotonic), as revolve_profile expects for outward normals.
 std::vector<dem::ProfilePoint> ascending(const core::Profile& p) {
-  std::vector<dem::ProfilePoint> out;
-  for (std::size_t i = 0; i < p.size(); ++i) out.push_back({p.z[i], p.r[i]});
-  std::sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.z < b.z; });
+  auto out = dem::profile_points(p);
+  if (out.front().z > out.back().z) std::reverse(out.begin(), out.end());
   return out;
 }
 
@@ -31,14 +30,7 @@ Eigen::Quaterniond extrapolate(const Eigen::Quaterniond& q, const Eigen::Vector3
 
 }  // namespace
 
-double ChamberDem::uniform() {  // splitmix64: reproducible feed positions
-  std::uint64_t z = (rng_state_ += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params()), rng_state_(p.feed.seed) {
+ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params()), rng_(p.feed.seed) {
   core::validate_chamber_geometry(p_.chamber);
   auto mant = ascending(p_.chamber.mantle), conc = ascending(p_.chamber.concave);
   z_bottom_ = conc.front().z;
@@ -230,14 +222,14 @@ void ChamberDem::feed() {
   const double target = 0.35 * zone;  // a loose bed of rocks fills about a third of the zone
   int tries = 0;
   while (solid < target && fed_kg_ < p_.feed.max_fed_kg && tries < 12) {
-    const int shape = static_cast<int>(uniform() * rocks_.size()) % static_cast<int>(rocks_.size());
+    const int shape = static_cast<int>(rng_.uniform() * rocks_.size()) % static_cast<int>(rocks_.size());
     if (feed_credit_kg_ < rock_mass_[shape]) break;
     ++tries;
-    const double phi = 2 * kPi * uniform();
-    const double rr = std::sqrt(r_feed_in_ * r_feed_in_ + uniform() * (r_feed_out_ * r_feed_out_ - r_feed_in_ * r_feed_in_));
+    const double phi = 2 * kPi * rng_.uniform();
+    const double rr = std::sqrt(r_feed_in_ * r_feed_in_ + rng_.uniform() * (r_feed_out_ * r_feed_out_ - r_feed_in_ * r_feed_in_));
     const Eigen::Vector3d centre(concave_origin_.x() + rr * std::cos(phi), concave_origin_.y() + rr * std::sin(phi),
                                  z_hi + 1.2 * p_.feed.rock_size_m);
-    Eigen::Quaterniond q(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+    Eigen::Quaterniond q(rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5);
     q.normalize();
     if (place_rock(shape, centre, q)) {
       feed_credit_kg_ -= rock_mass_[shape];

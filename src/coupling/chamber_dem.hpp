@@ -18,6 +18,7 @@
 #include "dem/region_map.hpp"
 #include "dem/world.hpp"
 #include "rocks/packing.hpp"
+#include "rocks/rng.hpp"
 
 namespace coupling {
 
@@ -103,8 +104,7 @@ class ChamberDem {
   std::vector<uint64_t> tracked_ids_;
   std::vector<TrackedPoint> tracks_;
   Eigen::Vector3d concave_origin_ = Eigen::Vector3d::Zero();
-  unsigned long long rng_state_;
-  double uniform();
+  rocks::Rng rng_;  // reproducible feed positions, shapes and orientations
 };
 
 }  // namespace coupling
