@@ -8,6 +8,17 @@
 
 namespace {
 
+// Steps a single sphere (index 0) of radius r falling on the floor z = 0 until it has touched and left it.
+void step_until_rebound(dem::World& w, double r) {
+  bool touched = false;
+  for (int s = 0; s < 2000000; ++s) {
+    w.step(1);
+    const bool in = w.particles().z[0] < r;
+    if (in) touched = true;
+    if (touched && !in) break;
+  }
+}
+
 dem::WorldParams params_with(double e, double mu, double mu_r, double dt) {
   dem::WorldParams wp;
   wp.dt = dt;
@@ -92,13 +103,7 @@ TEST(HertzMindlin, ObliqueImpactSlidingRegimeMatchesCoulombClosedForm) {
     const double vn = V * std::cos(th), vt = V * std::sin(th);
     const double x[3] = {0, 0, r + 1e-7}, v[3] = {vt, 0, -vn};
     w.add_particle(x, r, 0, v);
-    bool touched = false;
-    for (int s = 0; s < 2000000; ++s) {
-      w.step(1);
-      const bool in = w.particles().z[0] < r;
-      if (in) touched = true;
-      if (touched && !in) break;
-    }
+    step_until_rebound(w, r);
     const auto& p = w.particles();
     const double e_meas = p.vz[0] / vn;  // normal restitution of this impact
     EXPECT_NEAR(e_meas, e, 0.02 * e);
@@ -120,13 +125,7 @@ TEST(HertzMindlin, ObliqueImpactStickRegimeSpinBelowSlidingValue) {
   const double th = deg * M_PI / 180, vn = V * std::cos(th), vt = V * std::sin(th);
   const double x[3] = {0, 0, r + 1e-7}, v[3] = {vt, 0, -vn};
   w.add_particle(x, r, 0, v);
-  bool touched = false;
-  for (int s = 0; s < 2000000; ++s) {
-    w.step(1);
-    const bool in = w.particles().z[0] < r;
-    if (in) touched = true;
-    if (touched && !in) break;
-  }
+  step_until_rebound(w, r);
   const auto& p = w.particles();
   EXPECT_LT(p.wy[0], 5 * mu * (1 + e) * vn / (2 * r));
   const double vc = p.vx[0] - r * p.wy[0];  // contact point velocity after impact
