@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "mbd/contact_law.hpp"
 
@@ -17,12 +18,6 @@ double effective_mass(const RigidKinematics& a, const Eigen::Vector3d& ra, const
   const Eigen::Vector3d ca = ra.cross(t), cb = rb.cross(t);
   const double inv = a.inv_mass + ca.dot(a.inv_inertia_world * ca) + b.inv_mass + cb.dot(b.inv_inertia_world * cb);
   return inv > 0 ? 1.0 / inv : 0.0;
-}
-double power(double x, double e) {
-  if (e == 1.5) return x * std::sqrt(x);
-  if (e == 2.0) return x * x;
-  if (e == 1.0) return x;
-  return std::pow(x, e);
 }
 }  // namespace
 
@@ -104,7 +99,7 @@ double ChamberForces::gap(const RigidKinematics& mantle, const RigidKinematics& 
 }
 
 ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidKinematics& C, bool bed,
-                                          double dt) const {
+                                          double dt, const BedState* state, BedState* next) const {
   ChamberForceResult out;
   out.min_gap = std::numeric_limits<double>::infinity();
   // Mantle liner frame -> concave liner frame: q = A l + b.
@@ -186,26 +181,40 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
   // ---- Equivalent material bed ----
   if (bed) {
     const auto& bp = p_.bed;
+    const bool hyst = bp.law == BedLaw::Hysteretic;
+    if (hyst && (!state || state->size() != bed_samples_.size()))
+      throw std::logic_error("ChamberForces: the hysteretic bed needs its state (initial_bed_state())");
+    if (hyst && next) next->resize(bed_samples_.size());
     auto& hits = hits_;
     hits.clear();
-    for (const auto& s : bed_samples_) {
+    for (std::size_t k = 0; k < bed_samples_.size(); ++k) {
+      const Sample& s = bed_samples_[k];
       Eigen::Vector3d q, P, n;
       Eigen::Vector2d nzr;
       const double g = fast_gap(s.local, &q, &nzr);
-      if (g >= s.g_ref) continue;
+      if (g >= s.g_ref) {
+        if (hyst && next) (*next)[k] = BedCell{};  // open beyond the reference gap: loose bed
+        continue;
+      }
       world_of(q, nzr, &P, &n);
       const Eigen::Vector3d v2 = M.v + M.w.cross(P - M.x), v1 = C.v + C.w.cross(P - C.x);
       const double g_dot = (v1 - v2).dot(n);
-      hits.push_back({P, n, 1.0 - std::max(g, 0.0) / s.g_ref, -g_dot / s.g_ref, &s});
+      hits.push_back({P, n, 1.0 - std::max(g, 0.0) / s.g_ref, -g_dot / s.g_ref, &s, k});
     }
     const int active = static_cast<int>(hits.size());
     const double inv_I2 = M.inv_inertia_world.norm(), inv_I1 = C.inv_inertia_world.norm();  // >= largest eigenvalue
     for (int i = 0; i < active; ++i) {
       const Hit& h = hits[i];
       const double A = h.s->area;
-      const double p_el = bp.modulus_Pa * power(h.e, bp.exponent);
-      // Crushing loss while the gap closes (none while it opens), faded in over the first 5 % of strain
-      // so a patch engages without a force jump (a jump per patch gives a ripple at azimuth_samples x f).
+      BedPressure bpr;
+      if (hyst) {
+        BedCell c = (*state)[h.k];
+        bpr = bed_hysteretic(c, h.e, bp.modulus_Pa, bp.exponent, bp.rebound);
+        if (next) (*next)[h.k] = c;
+      } else {
+        bpr = bed_elastic(h.e, bp.modulus_Pa, bp.exponent);
+      }
+      const double p_el = bpr.p;
       const double fade = std::min(1.0, h.e / 0.05);
       const double p_v = h.e_dot > 0 ? bp.viscosity_Pa_s * h.e_dot * fade : 0.0;
       const double fn_el = A * p_el, fn_v = A * p_v;
@@ -223,11 +232,13 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
         mag = std::max(mag, -cap);
         ft = mag * t;
       }
-      const Eigen::Vector3d f_el = -fn_el * h.n, f_d = -fn_v * h.n + ft;
+      // The hysteretic force is path dependent: booked as dissipative, its stored part via bed_potential.
+      const Eigen::Vector3d f_el = hyst ? Eigen::Vector3d::Zero() : Eigen::Vector3d(-fn_el * h.n);
+      const Eigen::Vector3d f_d = -(fn_v + (hyst ? fn_el : 0.0)) * h.n + ft;
       out.bed_on_mantle.add(r2, f_el, f_d);
       out.bed_on_concave.add(r1, -f_el, -f_d);
       out.bed_normal_force += fn_el + fn_v;
-      out.bed_potential += A * h.s->g_ref * p_el * h.e / (bp.exponent + 1.0);
+      out.bed_potential += A * h.s->g_ref * bpr.stored;
     }
   }
   auto sum = [](const Wrench& a, const Wrench& b) {

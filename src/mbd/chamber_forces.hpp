@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "mbd/bed_law.hpp"
 #include "mbd/mechanism_params.hpp"
 
 namespace mbd {
@@ -46,15 +47,20 @@ struct ChamberForceResult {
   double contact_normal_force = 0;  // N
   double bed_normal_force = 0;      // N (sum)
   double contact_potential = 0;     // J
-  double bed_potential = 0;         // J
+  double bed_potential = 0;         // J: elastic energy of the bed (hysteretic: recoverable part)
 };
+
+using BedState = std::vector<BedCell>;  // hysteretic bed memory, one cell per mantle patch
 
 class ChamberForces {
  public:
   explicit ChamberForces(const MechanismParams& p);
-  // mantle = floating cone B2, concave = fixed cone B1. bed: include the material bed.
+  // mantle = floating cone B2, concave = fixed cone B1. bed: include the material bed. The hysteretic
+  // bed reads its memory from `state` (initial_bed_state() at rest) and, when `next` is given, writes the
+  // memory after this configuration to it; the viscous bed ignores both.
   ChamberForceResult compute(const RigidKinematics& mantle, const RigidKinematics& concave, bool bed,
-                             double dt) const;
+                             double dt, const BedState* state = nullptr, BedState* next = nullptr) const;
+  BedState initial_bed_state() const { return BedState(bed_samples_.size()); }
   // Local gap (m) of one mantle point given in the mantle liner frame; normal (world) out of the axis.
   double gap(const RigidKinematics& mantle, const RigidKinematics& concave, const Eigen::Vector3d& local,
              Eigen::Vector3d* world_point, Eigen::Vector3d* normal) const;
@@ -69,6 +75,7 @@ class ChamberForces {
     Eigen::Vector3d P, n;
     double e, e_dot;
     const Sample* s;
+    std::size_t k;  // sample index
   };
   struct Seg {
     double az, ar, dz, dr, inv_len2, nz, nr;

@@ -91,6 +91,9 @@ struct Mechanism::Impl {
   double min_gap = 0, bed_force = 0, contact_force = 0;
   Eigen::Vector3d ext_f[kBodyCount], ext_t[kBodyCount];
   EnergyAudit audit;
+  BedState bed_state, bed_next;       // hysteretic bed memory (chamber_forces.hpp)
+  double bed_stored_booked = 0;       // hysteretic bed: stored energy already taken off bed_dissipation
+  bool hysteretic_bed() const { return load == LoadModel::Bed && p.bed.law == BedLaw::Hysteretic; }
 
   explicit Impl(const MechanismParams& params, LoadModel l) : p(params), load(l), chamber(params) {}
   ~Impl() {
@@ -134,7 +137,7 @@ struct Mechanism::Impl {
   void build();
   void apply_and_step();
   double constraint_error() const;
-  double mech_energy_parts(double* kin, double* grav, double* elast) const;
+  double mech_energy_parts(double* kin, double* grav, double* elast, double* bed_potential = nullptr) const;
 };
 
 void Mechanism::Impl::build() {
@@ -236,14 +239,17 @@ void Mechanism::Impl::build() {
   k_rot = {0.5 * k[2] * R * R, 0.5 * k[2] * R * R, 0.5 * (k[0] + k[1]) * R * R};
   c_rot = {0.5 * c[2] * R * R, 0.5 * c[2] * R * R, 0.5 * (c[0] + c[1]) * R * R};
   for (int i = 0; i < kBodyCount; ++i) ext_f[i].setZero(), ext_t[i].setZero();
+  bed_state = chamber.initial_bed_state();
+  bed_next = bed_state;
   double kin = 0, grav = 0, el = 0;
-  mech_energy_parts(&kin, &grav, &el);
+  mech_energy_parts(&kin, &grav, &el, &bed_stored_booked);
   audit.kinetic = kin;
   audit.gravity_potential = grav;
   audit.elastic_potential = el;
 }
 
-double Mechanism::Impl::mech_energy_parts(double* kin_sum, double* grav_out, double* el_out) const {
+double Mechanism::Impl::mech_energy_parts(double* kin_sum, double* grav_out, double* el_out,
+                                          double* bed_potential) const {
   double ke = 0, grav = 0;
   auto add = [&](dBodyID b) {
     dMass m;
@@ -268,8 +274,9 @@ double Mechanism::Impl::mech_energy_parts(double* kin_sum, double* grav_out, dou
     for (int i = 0; i < 3; ++i) el += 0.25 * p.effects.absorber_nonlinearity.cubic_N_per_m3 * std::pow(d[i], 4);
   {  // potentials of the cone contact and the bed at the current configuration
     const RigidKinematics km = kin(1, p.floating_cone.com_z_m), kc = kin(0, p.fixed_cone.com_z_m);
-    const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, p.dt_s);
+    const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, p.dt_s, &bed_state);
     el += cf.contact_potential + cf.bed_potential;
+    if (bed_potential) *bed_potential = cf.bed_potential;
   }
   *kin_sum = ke;
   *grav_out = grav;
@@ -304,7 +311,8 @@ void Mechanism::Impl::apply_and_step() {
 
   // ---- cone contact and material bed ----
   const RigidKinematics km = kin(1, p.floating_cone.com_z_m), kc = kin(0, p.fixed_cone.com_z_m);
-  const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, dt);
+  const ChamberForceResult cf = chamber.compute(km, kc, load == LoadModel::Bed, dt, &bed_state, &bed_next);
+  bed_state.swap(bed_next);
   auto apply = [&](int i, const Wrench& w) {
     const Eigen::Vector3d f = w.f_cons + w.f_diss, tq = w.t_cons + w.t_diss;
     dBodyAddForce(body[i], f.x(), f.y(), f.z());
@@ -373,6 +381,10 @@ void Mechanism::Impl::apply_and_step() {
   auto diss = [&](int i, const Wrench& w) { return -(w.f_diss.dot(vm[i]) + w.t_diss.dot(wm[i])) * dt; };
   audit.contact_dissipation += diss(1, cf.contact_on_mantle) + diss(0, cf.contact_on_concave);
   audit.bed_dissipation += diss(1, cf.bed_on_mantle) + diss(0, cf.bed_on_concave);
+  if (hysteretic_bed()) {  // the force's work minus what the bed stores is lost (stored: at the step start)
+    audit.bed_dissipation -= cf.bed_potential - bed_stored_booked;
+    bed_stored_booked = cf.bed_potential;
+  }
   audit.joint_friction_dissipation -=
       (t_jf1.dot(wm[1] - wm[0]) + t_jf3.dot(wm[2] - wm[1])) * dt;
   for (int i = 0; i < kBodyCount; ++i) audit.external_work += (ext_f[i].dot(vm[i]) + ext_t[i].dot(wm[i])) * dt;
@@ -513,7 +525,9 @@ void Mechanism::set_load_model(LoadModel load) { impl_->load = load; }
 
 EnergyAudit Mechanism::energy() const {
   EnergyAudit a = impl_->audit;
-  impl_->mech_energy_parts(&a.kinetic, &a.gravity_potential, &a.elastic_potential);
+  double stored = 0;
+  impl_->mech_energy_parts(&a.kinetic, &a.gravity_potential, &a.elastic_potential, &stored);
+  if (impl_->hysteretic_bed()) a.bed_dissipation -= stored - impl_->bed_stored_booked;  // the last step's share
   return a;
 }
 

@@ -102,6 +102,12 @@ MechanismParams load_mechanism_params(const core::ConfigNode& m) {
   p.sampling.generator = ch.integer("generator_samples", 2, 100);
 
   const auto b = m.child("bed");
+  p.bed.law = b.choice_or("law", "viscous", {"viscous", "hysteretic"}) == "hysteretic" ? BedLaw::Hysteretic
+                                                                                     : BedLaw::Viscous;
+  if (p.bed.law == BedLaw::Hysteretic)
+    p.bed.rebound = b.number("rebound", 0.01, 1.0);
+  else if (b.has("rebound"))
+    b.fail("rebound", "applies to law: hysteretic only (this bed is viscous)");
   p.bed.modulus_Pa = b.number("modulus_MPa", 0.0, 1e4, "MPa", u::MPa);
   p.bed.exponent = b.number("exponent", 1.0, 4.0);
   p.bed.engage_ratio = b.number("engage_ratio", 0.1, 1.5);
@@ -196,7 +202,9 @@ double stable_step_bound(const MechanismParams& p, std::string* element) {
     if (grest <= 0) continue;
     const double area = 2.0 * 3.14159265358979 * q.y() * L / ns;
     const double gref = p.bed.engage_ratio * grest;
-    kb += area * p.bed.modulus_Pa * p.bed.exponent * std::pow(0.5, p.bed.exponent - 1.0) / gref;
+    // Hysteretic unloading is 1/rebound times stiffer than loading (chamber_forces.cpp).
+    const double unload = p.bed.law == BedLaw::Hysteretic ? 1.0 / p.bed.rebound : 1.0;
+    kb += unload * area * p.bed.modulus_Pa * p.bed.exponent * std::pow(0.5, p.bed.exponent - 1.0) / gref;
     cb += area * p.bed.viscosity_Pa_s / gref;
   }
   consider(p.floating_cone.mass_kg, 0.5 * kb, "material bed (mbd.bed.modulus_MPa)");
@@ -242,6 +250,7 @@ void validate(const MechanismParams& p) {
         "mm/s (> v_static_mm_s)");
   range("bed.v_dynamic_mm_s", p.bed.v_d * 1e3, p.bed.v_s * 1e3 * (1 + 1e-9), 1e5, "mm/s (> v_static_mm_s)");
   range("bed.engage_ratio", p.bed.engage_ratio, 0.1, 1.5);
+  if (p.bed.law == BedLaw::Hysteretic) range("bed.rebound", p.bed.rebound, 0.01, 1.0);
   if (p.sampling.azimuth < 8) bad("chamber.azimuth_samples", p.sampling.azimuth, "[8, 720]");
   if (p.sampling.generator < 2) bad("chamber.generator_samples", p.sampling.generator, "[2, 100]");
   try {
@@ -352,6 +361,8 @@ std::string to_yaml(const MechanismParams& p) {
     << "    azimuth_samples: " << p.sampling.azimuth << "\n"
     << "    generator_samples: " << p.sampling.generator << "\n"
     << "  bed:\n"
+    << "    law: " << (p.bed.law == BedLaw::Hysteretic ? "hysteretic" : "viscous") << "\n"
+    << (p.bed.law == BedLaw::Hysteretic ? "    rebound: " + std::to_string(p.bed.rebound) + "\n" : std::string())
     << "    modulus_MPa: " << p.bed.modulus_Pa / 1e6 << "\n"
     << "    exponent: " << p.bed.exponent << "\n"
     << "    engage_ratio: " << p.bed.engage_ratio << "\n"

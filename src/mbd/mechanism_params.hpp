@@ -37,7 +37,14 @@ struct ContactParams {
 //   on the concave; tangential bed friction by the Eq. 14 law with bed velocities. Calibrated at 400 rpm.
 //   Known limit: the crushing force grows ~ w^2, so the viscous bed's power grows ~ w^4: 600 rpm is
 //   over-predicted (~415 kW vs 146 kW measured, Table 5) while the amplitude validates (5.89 vs 5.74 mm).
+// Bed laws: viscous (elastic p = E e^n plus a loss proportional to the closing rate) or hysteretic
+// (rate-independent: virgin loading p = E (e - e0)^n, elastic unloading that recovers the fraction
+// `rebound` of the compression, refill when the gap reopens; chamber_forces.hpp).
+enum class BedLaw { Viscous, Hysteretic };
+
 struct BedParams {
+  BedLaw law = BedLaw::Viscous;
+  double rebound = 1.0;            // hysteretic: recovered fraction of each compression (1: elastic)
   double modulus_Pa = 8e6;
   double exponent = 1.5;
   double engage_ratio = 0.9;

@@ -17,14 +17,16 @@
 
 namespace {
 void usage() {
-  std::cerr << "usage: mbd_bench --config FILE [--seconds S] [--settle S] [--load bed|none] [--speed-rpm N] [--csv OUT.csv] [--diag]\n";
+  std::cerr << "usage: mbd_bench --config FILE [--seconds S] [--settle S] [--load bed|none] [--speed-rpm N] [--csv OUT.csv] [--diag]\n"
+               "       calibration overrides: [--static-moment KG_M] [--bed-modulus-MPa E] [--bed-viscosity-kPa-s C]\n"
+               "       [--bed-hysteretic REBOUND] (rate-independent bed law with that rebound, no viscosity)\n";
 }
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string config, load = "bed";
   double seconds = 10.0, settle = 4.0, rpm = -1;
-  double static_moment = -1, viscosity = -1, modulus = -1;
+  double static_moment = -1, viscosity = -1, modulus = -1, rebound = -1;
   bool diag = false;
   std::string csv;
   for (int i = 1; i < argc; ++i) {
@@ -44,6 +46,7 @@ int main(int argc, char** argv) {
     else if (a == "--static-moment") static_moment = std::stod(next());
     else if (a == "--bed-viscosity-kPa-s") viscosity = std::stod(next());
     else if (a == "--bed-modulus-MPa") modulus = std::stod(next());
+    else if (a == "--bed-hysteretic") rebound = std::stod(next());
     else if (a == "--diag") diag = true;
     else if (a == "--csv") csv = next();
     else {
@@ -61,6 +64,11 @@ int main(int argc, char** argv) {
     if (static_moment >= 0) params.vibrator_static_moment_kg_m = static_moment;
     if (viscosity >= 0) params.bed.viscosity_Pa_s = viscosity * 1e3;
     if (modulus >= 0) params.bed.modulus_Pa = modulus * 1e6;
+    if (rebound >= 0) {
+      params.bed.law = mbd::BedLaw::Hysteretic;
+      params.bed.rebound = rebound;
+      params.bed.viscosity_Pa_s = 0;
+    }
     mbd::validate(params);
     if (diag) {  // state of the mechanism every 0.5 s (calibration aid)
       mbd::Mechanism m(params, load == "none" ? mbd::LoadModel::None : mbd::LoadModel::Bed);

@@ -66,6 +66,24 @@ TEST(MbdConfig, MissingKeyNamed) {
   EXPECT_NE(msg.find("missing"), std::string::npos) << msg;
 }
 
+TEST(MbdConfig, BedLawKeys) {
+  const std::string visc = "    viscosity_kPa_s: 190";
+  const auto p = load_text(replace(read_400(), visc, visc + "\n    law: hysteretic\n    rebound: 0.2"));
+  EXPECT_EQ(p.bed.law, mbd::BedLaw::Hysteretic);
+  EXPECT_DOUBLE_EQ(p.bed.rebound, 0.2);
+  auto msg = error_of(replace(read_400(), visc, visc + "\n    law: hysteretic"));
+  EXPECT_NE(msg.find("mbd.bed.rebound"), std::string::npos) << msg;
+  msg = error_of(replace(read_400(), visc, visc + "\n    rebound: 0.2"));
+  EXPECT_NE(msg.find("hysteretic"), std::string::npos) << msg;
+  msg = error_of(replace(read_400(), visc, visc + "\n    law: plastic"));
+  EXPECT_NE(msg.find("viscous"), std::string::npos) << msg;
+  // to_yaml keeps the law and its rebound.
+  auto root = core::ConfigNode::load_string(mbd::to_yaml(p), "fitted.yaml");
+  const auto q = mbd::load_mechanism_params(root.child("mbd"));
+  EXPECT_EQ(q.bed.law, mbd::BedLaw::Hysteretic);
+  EXPECT_NEAR(q.bed.rebound, 0.2, 1e-9);
+}
+
 TEST(MbdConfig, OutOfRangeNamedWithValueAndRange) {
   const auto msg = error_of(replace(read_400(), "    mu_static: 0.3", "    mu_static: 7"));
   EXPECT_NE(msg.find("mbd.contact.mu_static"), std::string::npos) << msg;
