@@ -23,18 +23,30 @@ double effective_mass(const RigidKinematics& a, const Eigen::Vector3d& ra, const
 
 double ChamberForces::segment_gap(double z, double r, Eigen::Vector2d* nzr) const {
   // core::signed_distance_inside with precomputed segments (hot loop); inside/outside from the side
-  // of the closest segment's outward normal.
+  // of the closest segment's outward normal. A foot inside a segment gives the signed distance to its line
+  // directly (no square root); only an end point needs one.
   double best = std::numeric_limits<double>::infinity(), side = 0;
   int ib = 0;
+  bool at_end = false;
   for (std::size_t i = 0; i < segs_.size(); ++i) {
     const Seg& s = segs_[i];
-    const double t = std::clamp(((z - s.az) * s.dz + (r - s.ar) * s.dr) * s.inv_len2, 0.0, 1.0);
-    const double ez = s.az + t * s.dz - z, er = s.ar + t * s.dr - r;
-    const double d2 = ez * ez + er * er;
-    if (d2 < best) best = d2, ib = static_cast<int>(i), side = ez * s.nz + er * s.nr;
+    const double t = ((z - s.az) * s.dz + (r - s.ar) * s.dr) * s.inv_len2;
+    double d2, sd;
+    bool end = false;
+    if (t > 0.0 && t < 1.0) {
+      sd = (s.az - z) * s.nz + (s.ar - r) * s.nr;
+      d2 = sd * sd;
+    } else {
+      const double tc = t <= 0.0 ? 0.0 : 1.0;
+      const double ez = s.az + tc * s.dz - z, er = s.ar + tc * s.dr - r;
+      d2 = ez * ez + er * er;
+      sd = ez * s.nz + er * s.nr;
+      end = true;
+    }
+    if (d2 < best) best = d2, ib = static_cast<int>(i), side = sd, at_end = end;
   }
   if (nzr) *nzr = Eigen::Vector2d(segs_[ib].nz, segs_[ib].nr);
-  const double d = std::sqrt(best);
+  const double d = at_end ? std::sqrt(best) : std::fabs(side);
   return side >= 0 ? d : -d;
 }
 
@@ -58,6 +70,7 @@ ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
   }
   contact_z_ = m.z;
   contact_r_ = m.r;
+  contact_k_.assign(m.size(), 0);
   const auto& c = p.chamber.concave;
   for (std::size_t i = 0; i + 1 < c.size(); ++i) {
     Seg sg;
@@ -130,16 +143,23 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
     for (std::size_t iv = 0; iv < contact_z_.size(); ++iv) {
       const double z = contact_z_[iv], r = contact_r_[iv];
       auto local_at = [&](double phi) { return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z); };
-      int kbest = 0;
-      double gbest = std::numeric_limits<double>::infinity();
-      auto& gs = gs_;
-      gs.resize(na);
-      for (int k = 0; k < na; ++k) {
-        gs[k] = fast_gap(Eigen::Vector3d(r * cos_[k], r * sin_[k], z), nullptr, nullptr);
-        if (gs[k] < gbest) gbest = gs[k], kbest = k;
+      // The gap of a tilted circle against a cone of revolution has one minimum in azimuth: walk downhill
+      // from the last step's best sample (a few evaluations instead of all `na`).
+      auto g_at = [&](int k) { return fast_gap(Eigen::Vector3d(r * cos_[k], r * sin_[k], z), nullptr, nullptr); };
+      int kbest = contact_k_[iv];
+      double g0 = g_at(kbest);
+      double gm = g_at((kbest + na - 1) % na), gp = g_at((kbest + 1) % na);
+      for (int walk = 0; walk < na && (gm < g0 || gp < g0); ++walk) {
+        if (gm < gp) {
+          kbest = (kbest + na - 1) % na;
+          gp = g0, g0 = gm, gm = g_at((kbest + na - 1) % na);
+        } else {
+          kbest = (kbest + 1) % na;
+          gm = g0, g0 = gp, gp = g_at((kbest + 1) % na);
+        }
       }
+      contact_k_[iv] = kbest;
       // Parabola through the best sample and its neighbours: refined closest azimuth.
-      const double gm = gs[(kbest + na - 1) % na], g0 = gs[kbest], gp = gs[(kbest + 1) % na];
       const double den = gm - 2.0 * g0 + gp;
       double off = den > 1e-15 ? 0.5 * (gm - gp) / den : 0.0;
       off = std::clamp(off, -0.5, 0.5);

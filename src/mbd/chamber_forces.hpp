@@ -86,7 +86,7 @@ class ChamberForces {
   double contact_rest_gap_ = 0, contact_reach_ = 0;
   MechanismParams p_;
   mutable std::vector<Hit> hits_;  // scratch (no allocation in the step after the first)
-  mutable std::vector<double> gs_;
+  mutable std::vector<int> contact_k_;  // per profile vertex: azimuth sample of the last closest approach
   std::vector<Sample> bed_samples_;
   std::vector<double> contact_z_, contact_r_;  // mantle profile vertices
 };
