@@ -67,15 +67,15 @@ TEST(MbdConfig, MissingKeyNamed) {
 }
 
 TEST(MbdConfig, BedLawKeys) {
-  const std::string visc = "    viscosity_kPa_s: 190";
-  const auto p = load_text(replace(read_400(), visc, visc + "\n    law: hysteretic\n    rebound: 0.2"));
+  const std::string law = "    law: viscous";  // the shipped line (its comment follows)
+  const auto p = load_text(replace(read_400(), law, "    law: hysteretic\n    rebound: 0.2"));
   EXPECT_EQ(p.bed.law, mbd::BedLaw::Hysteretic);
   EXPECT_DOUBLE_EQ(p.bed.rebound, 0.2);
-  auto msg = error_of(replace(read_400(), visc, visc + "\n    law: hysteretic"));
+  auto msg = error_of(replace(read_400(), law, "    law: hysteretic"));
   EXPECT_NE(msg.find("mbd.bed.rebound"), std::string::npos) << msg;
-  msg = error_of(replace(read_400(), visc, visc + "\n    rebound: 0.2"));
+  msg = error_of(replace(read_400(), law, law + "\n    rebound: 0.2"));
   EXPECT_NE(msg.find("hysteretic"), std::string::npos) << msg;
-  msg = error_of(replace(read_400(), visc, visc + "\n    law: plastic"));
+  msg = error_of(replace(read_400(), law, "    law: plastic"));
   EXPECT_NE(msg.find("viscous"), std::string::npos) << msg;
   // to_yaml keeps the law and its rebound.
   auto root = core::ConfigNode::load_string(mbd::to_yaml(p), "fitted.yaml");
