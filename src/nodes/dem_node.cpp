@@ -1,5 +1,6 @@
 // dem_node: the ore as a bonded-particle DEM (coupling::ChamberDem) as a ROS node, the follower of the
-// lockstep coupling. Parameters: ~config (path, required), ~out (dir for dem.bag and breaks.csv).
+// lockstep coupling. Parameters: ~config (path, required), ~out (dir for dem.bag and breaks.csv; scripts/crusher
+// run merges dem.bag into mbd_node's run.bag with merge_bags).
 // Answers each /crusher/geometry_state with the time-averaged liner wrench for the same step, and publishes
 // particles, liners, the concave force map and the screened product at run.tf_hz of sim time.
 #include <inertia_crusher/ConcaveForceMap.h>
@@ -220,7 +221,9 @@ class DemNode {
     pub_map_.publish(fm);
     bag_.write("/crusher/concave_forces", stamp, fm);
     if (final_sample) return;
-    pub_map_markers_.publish(force_map_markers(stamp, fm.mean_normal_force));
+    auto map_markers = force_map_markers(stamp, fm.mean_normal_force);
+    pub_map_markers_.publish(map_markers);
+    bag_.write("/crusher/concave_force_markers", stamp, map_markers);
     auto parts = particle_markers(stamp);
     pub_particles_.publish(parts);
     bag_.write("/crusher/particles", stamp, parts);

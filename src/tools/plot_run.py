@@ -14,7 +14,8 @@ import rosbag  # noqa: E402
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--bag", required=True, action="append", help="run.bag, and dem.bag for coupled runs")
+    ap.add_argument("--bag", required=True, action="append",
+                    help="run.bag (coupled runs: holds the DEM's topics too); repeat to read node bags that were not merged")
     ap.add_argument("--summary")
     ap.add_argument("--out", required=True)
     a = ap.parse_args()

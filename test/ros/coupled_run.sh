@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Integration test of the coupled run: mbd_node and dem_node started by rosrun on a private master,
 # lockstep over ROS topics (dem_node first, then mbd_node: either may start first), then
-#  1. check_coupled_run.py asserts on the bags (no step missing or duplicated, wrenches, mass balance, PSD);
-#  2. rviz with rviz/crusher.rviz under Xvfb, fed by the recorded dem.bag, is screenshot and the picture's
+#  1. dem.bag is merged into run.bag (merge_bags, as scripts/crusher run does) and check_coupled_run.py asserts
+#     on it (every topic of both nodes, no step missing or duplicated, wrenches, mass balance, PSD);
+#  2. rviz with rviz/crusher.rviz under Xvfb, fed by the merged run.bag, is screenshot and the picture's
 #     pixels must show the particles and the liners.
 source "$(dirname "$0")/ros_env.bash"
 export OMP_WAIT_POLICY=passive
@@ -27,6 +28,10 @@ wait "$dem_pid" || { tail -n 20 "$out/dem.log"; echo "FAIL: dem_node failed"; ex
 wall=$(/usr/bin/python3 -c "import time; print(f'{time.time() - $start:.1f}')")
 grep -h "simulated" "$out/mbd.log" "$out/dem.log" | sed 's/\x1b\[[0-9;]*m//g'
 echo "coupled case wall time: $wall s"
+# One bag, as scripts/crusher run makes it: dem.bag merged into run.bag (mbd.bag: mbd_node's own, for the check).
+cp "$out/run/run.bag" "$out/run/mbd.bag"
+rosrun inertia_crusher merge_bags "$out/run/run.bag" "$out/run/dem.bag" ||
+  { echo "FAIL: merge_bags failed"; exit 1; }
 /usr/bin/python3 "$src/test/ros/check_coupled_run.py" "$out/run"
 
 # What a user sees: rviz fed by the recorded DEM bag, under Xvfb.
@@ -38,7 +43,7 @@ rosparam set /use_sim_time false
 rviz -d "$src/rviz/crusher.rviz" >"$out/rviz.log" 2>&1 &
 pids+=($!)
 sleep 8
-rosbag play -q -l "$out/run/dem.bag" --topics /crusher/particles /crusher/liners /crusher/concave_force_markers \
+rosbag play -q -l "$out/run/run.bag" --topics /crusher/particles /crusher/liners /crusher/concave_force_markers \
   >"$out/play.log" 2>&1 &
 pids+=($!)
 sleep 10
