@@ -1,25 +1,68 @@
 #pragma once
 // Particle state of the DEM as structure-of-arrays (DESIGN.md: SoA arrays).
 // Index i is the storage slot (it changes when particles are removed); id[i] is stable and never reused.
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace dem {
 
+// Allocator for the large per-particle and per-pair arrays. malloc returns big blocks at the same offset in
+// a page, so element i of every SoA array falls into the same L1 cache set; with ~20 arrays streamed in one
+// loop that thrashes the cache (measured 5-9x slower on a 50k-particle step). Large blocks here start at one
+// of 32 staggered offsets (128 bytes apart) instead.
+template <class T>
+struct StaggeredAllocator {
+  using value_type = T;
+  StaggeredAllocator() = default;
+  template <class U>
+  StaggeredAllocator(const StaggeredAllocator<U>&) {}
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < (std::size_t(1) << 16)) {
+      void* p = std::malloc(bytes + 64);
+      if (!p) throw std::bad_alloc();
+      *static_cast<std::size_t*>(p) = 64;
+      return reinterpret_cast<T*>(static_cast<char*>(p) + 64);
+    }
+    static std::atomic<unsigned> next{0};
+    const std::size_t off = 64 + 128 * (next.fetch_add(1, std::memory_order_relaxed) % 32);
+    char* raw = static_cast<char*>(std::malloc(bytes + off + 4096));
+    if (!raw) throw std::bad_alloc();
+    // page-align, then shift by off (>= 64: room for the header)
+    const std::size_t a = (reinterpret_cast<std::uintptr_t>(raw) + 4095) & ~std::uintptr_t(4095);
+    char* p = reinterpret_cast<char*>(a) + off;
+    *reinterpret_cast<std::size_t*>(p - 64) = static_cast<std::size_t>(p - raw);
+    return reinterpret_cast<T*>(p);
+  }
+  void deallocate(T* p, std::size_t) noexcept {
+    char* c = reinterpret_cast<char*>(p);
+    std::free(c - *reinterpret_cast<std::size_t*>(c - 64));
+  }
+  template <class U>
+  bool operator==(const StaggeredAllocator<U>&) const { return true; }
+  template <class U>
+  bool operator!=(const StaggeredAllocator<U>&) const { return false; }
+};
+template <class T>
+using SVec = std::vector<T, StaggeredAllocator<T>>;
+
 struct Particles {
   // position (m), velocity (m/s), angular velocity (rad/s)
-  std::vector<double> x, y, z, vx, vy, vz, wx, wy, wz;
+  SVec<double> x, y, z, vx, vy, vz, wx, wy, wz;
   // force (N) and torque (N m) accumulated during the current step
-  std::vector<double> fx, fy, fz, tx, ty, tz;
+  SVec<double> fx, fy, fz, tx, ty, tz;
   // radius (m), mass (kg), 1/mass, 1/moment of inertia (solid sphere: I = 2/5 m r^2)
-  std::vector<double> r, m, inv_m, inv_I;
-  std::vector<uint64_t> id;   // stable, never reused
-  std::vector<int> material;  // index into MaterialTable
+  SVec<double> r, m, inv_m, inv_I;
+  std::vector<uint64_t> id;  // stable, never reused
+  SVec<int> material;  // index into MaterialTable
   // 1: prescribed motion: the integrator moves the particle with its current v, w and ignores its forces
-  std::vector<char> fixed;
+  SVec<char> fixed;
   uint64_t next_id = 0;
 
   std::size_t size() const { return x.size(); }
@@ -71,7 +114,7 @@ struct Particles {
   }
 
  private:
-  std::vector<std::vector<double>*> doubles() {
+  std::vector<SVec<double>*> doubles() {
     return {&x, &y, &z, &vx, &vy, &vz, &wx, &wy, &wz, &fx, &fy, &fz, &tx, &ty, &tz, &r, &m, &inv_m, &inv_I};
   }
   void copy_slot(std::size_t from, std::size_t to) {

@@ -2,7 +2,11 @@
 
 #include <omp.h>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
 
 #include <algorithm>
 #include <cmath>
@@ -118,6 +122,7 @@ void World::remove_particles(const std::vector<char>& remove) {
     pi_[np] = static_cast<uint32_t>(a);
     pj_[np] = static_cast<uint32_t>(b);
     hist_[np] = hist_[q];
+    touch_[np] = touch_[q];
     ++np;
   }
   npairs_ = np;
@@ -150,7 +155,7 @@ void World::resize_per_particle() {
   if (whist_.size() != n_known_ * nw) {
     // walls were added: re-lay the wall histories out as [particle][wall]
     const std::size_t nw_old = n_known_ > 0 ? whist_.size() / n_known_ : 0;
-    std::vector<std::array<double, 3>> h(n * nw, std::array<double, 3>{{0, 0, 0}});
+    SVec<std::array<double, 3>> h(n * nw, std::array<double, 3>{{0, 0, 0}});
     for (std::size_t i = 0; i < n_known_; ++i)
       for (std::size_t w = 0; w < nw_old && w < nw; ++w) h[i * nw + w] = whist_[i * nw_old + w];
     whist_.swap(h);
@@ -179,7 +184,7 @@ int World::add_plane(const double point[3], const double normal[3], int material
   resize_per_particle();
   const std::size_t n = p_.size(), nw = walls_.size();
   walls_.push_back(PlanarWall::make(point, normal, material));
-  std::vector<std::array<double, 3>> h(n * (nw + 1), std::array<double, 3>{{0, 0, 0}});
+  SVec<std::array<double, 3>> h(n * (nw + 1), std::array<double, 3>{{0, 0, 0}});
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t w = 0; w < nw; ++w) h[i * (nw + 1) + w] = whist_[i * nw + w];
   whist_.swap(h);
@@ -358,6 +363,7 @@ void World::rebuild() {
         pj2_.resize(cap);
         pi2_.resize(cap);
         hist2_.resize(cap);
+        touch2_.resize(cap);
       }
     }
     chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
@@ -391,12 +397,15 @@ void World::rebuild() {
                 pi2_[out] = static_cast<uint32_t>(i);
                 pj2_[out] = j;
                 std::array<double, 3> h{{0, 0, 0}};
+                uint8_t tc = 0;
                 for (uint32_t q = os; q < oe; ++q)
                   if (pj_[q] == j) {
                     h = hist_[q];
+                    tc = touch_[q];
                     break;
                   }
                 hist2_[out] = h;
+                touch2_[out] = tc;
                 ++out;
               }
             }
@@ -416,29 +425,26 @@ void World::rebuild() {
     for (uint32_t a = s + 1; a < e; ++a) {  // insertion sort (few entries)
       const uint32_t j = pj2_[a];
       const std::array<double, 3> h = hist2_[a];
+      const uint8_t tc = touch2_[a];
       uint32_t b = a;
       while (b > s && pj2_[b - 1] > j) {
         pj2_[b] = pj2_[b - 1];
         hist2_[b] = hist2_[b - 1];
+        touch2_[b] = touch2_[b - 1];
         --b;
       }
       pj2_[b] = j;
       hist2_[b] = h;
+      touch2_[b] = tc;
     }
   }
   });
   pj_.swap(pj2_);
   pi_.swap(pi2_);
   hist_.swap(hist2_);
+  touch_.swap(touch2_);
   istart_.assign(cnt_.begin(), cnt_.begin() + n + 1);
-  if (pout_.size() < pj_.size()) pout_.resize(pj_.size());
-  // j-side references, in pair order
-  jstart_.assign(n + 1, 0);
-  for (std::size_t q = 0; q < npairs_; ++q) ++jstart_[pj_[q] + 1];
-  for (std::size_t i = 0; i < n; ++i) jstart_[i + 1] += jstart_[i];
-  if (jref_.size() < npairs_) jref_.resize(pj_.size());
-  cnt_.assign(jstart_.begin(), jstart_.end() - 1);
-  for (std::size_t q = 0; q < npairs_; ++q) jref_[cnt_[pj_[q]]++] = static_cast<uint32_t>(q);
+  build_slabs();
   chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
     for (long i = ib; i < ie; ++i) {
       x0_[i] = p_.x[i];
@@ -450,43 +456,92 @@ void World::rebuild() {
   ++nrebuild_;
 }
 
+// Groups the grid's cell layers along its longest axis into slabs of about n / kSlabs particles. The pair list
+// only joins particles of the same or adjacent cells, hence of the same or adjacent slabs.
+void World::build_slabs() {
+  constexpr std::size_t kSlabs = 64;
+  const CellGrid& g = grid_;
+  const std::size_t n = p_.size();
+  const int axis = (g.nx >= g.ny && g.nx >= g.nz) ? 0 : (g.ny >= g.nz ? 1 : 2);
+  const int nl = axis == 0 ? g.nx : (axis == 1 ? g.ny : g.nz);
+  auto layer = [&](std::size_t i) {
+    int c[3];
+    g.coords(g.cell_of[i], c[0], c[1], c[2]);
+    return c[axis];
+  };
+  cnt_.assign(static_cast<std::size_t>(nl) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cnt_[layer(i)];
+  const std::size_t target = std::max<std::size_t>(1, n / kSlabs);
+  slab_of_layer_.resize(nl);
+  uint32_t ns = 0;
+  std::size_t acc = 0;
+  for (int l = 0; l < nl; ++l) {
+    slab_of_layer_[l] = ns;
+    acc += cnt_[l];
+    if (acc >= target && l + 1 < nl) {
+      ++ns;
+      acc = 0;
+    }
+  }
+  ++ns;
+  sstart_.assign(ns + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++sstart_[slab_of_layer_[layer(i)] + 1];
+  for (uint32_t s = 0; s < ns; ++s) sstart_[s + 1] += sstart_[s];
+  sorder_.resize(n);
+  cnt_.assign(sstart_.begin(), sstart_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) sorder_[cnt_[slab_of_layer_[layer(i)]]++] = static_cast<uint32_t>(i);
+}
+
 // ------------------------------------------------------------------ forces
-// Pair forces, parallel over owners i (pairs are grouped by owner): the owner's side is summed in place into
-// f[i], t[i] (with gravity); the other side's force and torque go to pout_ for the per-particle gather.
+// Pair forces, added straight into f, t (which hold gravity at this point). Slabs are processed in three
+// colours (s mod 3) one after the other; a slab's pairs only write to particles of slabs s-1..s+1, so slabs of
+// one colour run in parallel without conflicts, and each particle receives its terms in the same order
+// whatever the thread count or the schedule. Non-touching pairs cost a distance test (and a history reset
+// when they just separated).
 void World::pair_forces() {
+  if (npairs_ == 0) return;
   const double dt = prm_.dt;
   const MaterialTable& mt = prm_.materials;
-  const double gx = prm_.gravity[0], gy = prm_.gravity[1], gz = prm_.gravity[2];
   const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
   const double* vx = p_.vx.data(); const double* vy = p_.vy.data(); const double* vz = p_.vz.data();
   const double* wx = p_.wx.data(); const double* wy = p_.wy.data(); const double* wz = p_.wz.data();
-  const double* r = p_.r.data(); const double* m = p_.m.data(); const double* im = p_.inv_m.data();
+  const double* r = p_.r.data(); const double* im = p_.inv_m.data();
   const int* mat = p_.material.data();
   double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
   double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
   const uint32_t* PJ = pj_.data();
   const uint32_t* IS = istart_.data();
+  const uint32_t* SO = sorder_.data();
+  const uint32_t* SS = sstart_.data();
   std::array<double, 3>* H = hist_.data();
-  PairOut* O = pout_.data();
-  owner_sums_ = npairs_ > 0;
-  if (!owner_sums_) return;  // gravity is then added by gather_forces (one parallel region less)
-  chunked(nt_, static_cast<long>(p_.size()), [&](long ib, long ie, int) {
-    for (long i = ib; i < ie; ++i) {
+  uint8_t* TC = touch_.data();
+  const double ovf = prm_.max_overlap_fraction > 0 ? prm_.max_overlap_fraction
+                                                     : std::numeric_limits<double>::infinity();
+  bad_thr_.assign(static_cast<std::size_t>(nt_), 0);
+  char* bad = bad_thr_.data();
+  auto slab = [&](long s, int th) {
+    char seen = 0;
+    for (uint32_t k = SS[s]; k < SS[s + 1]; ++k) {
+      const uint32_t i = SO[k];
+      const uint32_t qb = IS[i], qe = IS[i + 1];
+      if (qb == qe) continue;
       const double xi = x[i], yi = y[i], zi = z[i], ri = r[i], imi = im[i];
       const double vxi = vx[i], vyi = vy[i], vzi = vz[i], wxi = wx[i], wyi = wy[i], wzi = wz[i];
       const int mati = mat[i];
-      double f0 = m[i] * gx, f1 = m[i] * gy, f2 = m[i] * gz, t0 = 0, t1 = 0, t2 = 0;
-      for (uint32_t q = IS[i]; q < IS[i + 1]; ++q) {
+      double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
+      for (uint32_t q = qb; q < qe; ++q) {
         const uint32_t j = PJ[q];
         const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
         const double rs = ri + r[j];
         const double d2 = dx * dx + dy * dy + dz * dz;
-        PairOut& o = O[q];
         if (d2 >= rs * rs) {
-          H[q][0] = H[q][1] = H[q][2] = 0.0;
-          o.f[0] = o.f[1] = o.f[2] = o.tj[0] = o.tj[1] = o.tj[2] = 0.0;
+          if (TC[q]) {
+            H[q][0] = H[q][1] = H[q][2] = 0.0;
+            TC[q] = 0;
+          }
           continue;
         }
+        TC[q] = 1;
         const double d = std::sqrt(d2), id = 1.0 / d, irs = 1.0 / rs;
         const double n[3] = {dx * id, dy * id, dz * id};  // from j to i
         const double ai = d * ri * irs, aj = d - ai;       // centre-to-contact distances
@@ -496,20 +551,49 @@ void World::pair_forces() {
                                 vzi - vz[j] - ai * (wxi * n[1] - wyi * n[0]) - aj * (wx[j] * n[1] - wy[j] * n[0])};
         const double wrel[3] = {wxi - wx[j], wyi - wy[j], wzi - wz[j]};
         const double reff = ri * r[j] * irs, meff = 1.0 / (imi + im[j]);
+        const double delta = rs - d;
+        if (delta > ovf * std::min(ri, r[j])) seen = 1;
         ContactForce c;
-        hertz_mindlin(rs - d, n, vrel, wrel, reff, meff, mt.pair(mati, mat[j]), dt, H[q].data(), c);
+        hertz_mindlin(delta, n, vrel, wrel, reff, meff, mt.pair(mati, mat[j]), dt, H[q].data(), c);
         // torques: -ai n x f + T_r on i ; (aj n) x (-f) - T_r on j
         const double cx = n[1] * c.f[2] - n[2] * c.f[1], cy = n[2] * c.f[0] - n[0] * c.f[2],
                      cz = n[0] * c.f[1] - n[1] * c.f[0];
         f0 += c.f[0]; f1 += c.f[1]; f2 += c.f[2];
         t0 += -ai * cx + c.troll[0]; t1 += -ai * cy + c.troll[1]; t2 += -ai * cz + c.troll[2];
-        o.f[0] = c.f[0]; o.f[1] = c.f[1]; o.f[2] = c.f[2];
-        o.tj[0] = -aj * cx - c.troll[0]; o.tj[1] = -aj * cy - c.troll[1]; o.tj[2] = -aj * cz - c.troll[2];
+        fx[j] -= c.f[0]; fy[j] -= c.f[1]; fz[j] -= c.f[2];
+        tx[j] += -aj * cx - c.troll[0]; ty[j] += -aj * cy - c.troll[1]; tz[j] += -aj * cz - c.troll[2];
       }
-      fx[i] = f0; fy[i] = f1; fz[i] = f2;
-      tx[i] = t0; ty[i] = t1; tz[i] = t2;
+      fx[i] += f0; fy[i] += f1; fz[i] += f2;
+      tx[i] += t0; ty[i] += t1; tz[i] += t2;
     }
-  });
+    if (seen) bad[th] = 1;
+  };
+  const long ns = static_cast<long>(sstart_.size()) - 1;
+  if (nt_ > 1 && npairs_ >= static_cast<std::size_t>(kMinParallel) && ns > 3) {
+#pragma omp parallel num_threads(nt_)
+    {
+      const int th = omp_get_thread_num();
+      for (long c = 0; c < 3; ++c) {
+#pragma omp for schedule(dynamic, 1)
+        for (long s = c; s < ns; s += 3) slab(s, th);
+      }
+    }
+  } else {
+    for (long c = 0; c < 3; ++c)
+      for (long s = c; s < ns; s += 3) slab(s, 0);
+  }
+  for (char b : bad_thr_)
+    if (b) {  // the first pair (in list order) beyond the bound
+      for (std::size_t q = 0; q < npairs_; ++q) {
+        const uint32_t i = pi_[q], j = pj_[q];
+        const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
+        const double ov = (r[i] + r[j] - std::sqrt(dx * dx + dy * dy + dz * dz)) / std::min(r[i], r[j]);
+        if (ov > ovf)
+          blow_up(i, ov, "overlap with particle id " + std::to_string(p_.id[j]) + " is " + std::to_string(ov) +
+                             " of the smaller radius (bound max_overlap_fraction = " +
+                             std::to_string(prm_.max_overlap_fraction) + ")");
+      }
+    }
 }
 
 void World::bond_forces() {
@@ -552,7 +636,7 @@ void World::bond_forces() {
     Bond& bd = bonds_[b];
     bd.alive = 0;
     BondBreak e;
-    e.t = t_ + prm_.dt;
+    e.t = t_;  // already the end of this step
     const double ri = p_.r[bd.i], rj = p_.r[bd.j], s = ri / (ri + rj);
     e.x[0] = p_.x[bd.i] + s * (p_.x[bd.j] - p_.x[bd.i]);
     e.x[1] = p_.y[bd.i] + s * (p_.y[bd.j] - p_.y[bd.i]);
@@ -569,43 +653,62 @@ void World::bond_forces() {
   need_rebuild_ = true;
 }
 
-// Half kick (forces of the previous step) and drift of particle i; returns its squared displacement since the
-// last neighbour-list build (infinity for a non-finite position).
-inline double World::kick_drift(long i, bool kick) {
-  const double dt = prm_.dt, hdt = 0.5 * dt;
-  Particles& p = p_;
-  if (kick && !p.fixed[i]) {
-    const double im = p.inv_m[i], iI = p.inv_I[i];
-    p.vx[i] += hdt * p.fx[i] * im; p.vy[i] += hdt * p.fy[i] * im; p.vz[i] += hdt * p.fz[i] * im;
-    p.wx[i] += hdt * p.tx[i] * iI; p.wy[i] += hdt * p.ty[i] * iI; p.wz[i] += hdt * p.tz[i] * iI;
+namespace {
+// Raw arrays of the particle state, copied into locals in the hot loops (no reloads after stores).
+struct State {
+  double *x, *y, *z, *vx, *vy, *vz, *wx, *wy, *wz, *fx, *fy, *fz, *tx, *ty, *tz;
+  const double *m, *im, *iI, *r, *x0, *y0, *z0;
+  const char* fixed;
+};
+
+// Half kick with the forces in f, t (not for fixed particles), drift, and f, t reset to gravity for the force
+// evaluation that follows. Returns the squared displacement since the last build (infinity if not finite: the
+// rebuild then reports the particle).
+inline double kick_drift_reset(const State& s, long i, double dt, const double g[3]) {
+  const double hdt = 0.5 * dt;
+  if (!s.fixed[i]) {
+    const double im = s.im[i], iI = s.iI[i];
+    s.vx[i] += hdt * s.fx[i] * im; s.vy[i] += hdt * s.fy[i] * im; s.vz[i] += hdt * s.fz[i] * im;
+    s.wx[i] += hdt * s.tx[i] * iI; s.wy[i] += hdt * s.ty[i] * iI; s.wz[i] += hdt * s.tz[i] * iI;
   }
-  p.x[i] += dt * p.vx[i]; p.y[i] += dt * p.vy[i]; p.z[i] += dt * p.vz[i];
-  const double ddx = p.x[i] - x0_[i], ddy = p.y[i] - y0_[i], ddz = p.z[i] - z0_[i];
+  s.x[i] += dt * s.vx[i]; s.y[i] += dt * s.vy[i]; s.z[i] += dt * s.vz[i];
+  const double mi = s.m[i];
+  s.fx[i] = mi * g[0]; s.fy[i] = mi * g[1]; s.fz[i] = mi * g[2];
+  s.tx[i] = s.ty[i] = s.tz[i] = 0.0;
+  const double ddx = s.x[i] - s.x0[i], ddy = s.y[i] - s.y0[i], ddz = s.z[i] - s.z0[i];
   const double d2 = ddx * ddx + ddy * ddy + ddz * ddz;
-  // NaN compares false: force a rebuild, whose grid reports the non-finite particle
   return d2 == d2 ? d2 : std::numeric_limits<double>::infinity();
 }
 
-// Per particle, in fixed order: the other-side pair forces, bond forces and wall contacts are added to the
-// owner sums of pair_forces(). With kick, the velocity half-step that ends this step follows; with drift also
-// the half kick and drift that begin the next step (the arithmetic is the same as in separate loops).
+// Non-finite position or velocity (NaN and infinities survive the sum).
+inline bool state_bad(const State& s, long i) {
+  const double a = s.x[i] + s.y[i] + s.z[i] + s.vx[i] + s.vy[i] + s.vz[i] + s.wx[i] + s.wy[i] + s.wz[i];
+  return !std::isfinite(a);
+}
+
+State state_of(Particles& p, const SVec<double>& x0, const SVec<double>& y0, const SVec<double>& z0) {
+  return State{p.x.data(),  p.y.data(),  p.z.data(),  p.vx.data(),    p.vy.data(),    p.vz.data(),
+               p.wx.data(), p.wy.data(), p.wz.data(), p.fx.data(),    p.fy.data(),    p.fz.data(),
+               p.tx.data(), p.ty.data(), p.tz.data(), p.m.data(),     p.inv_m.data(), p.inv_I.data(),
+               p.r.data(),  x0.data(),   y0.data(),   z0.data(),      p.fixed.data()};
+}
+}  // namespace
+
+// Per particle, in fixed order: bond forces and wall contacts are added to gravity + pair forces. With kick,
+// the velocity half-step that ends this step follows (and the finiteness check); with drift also the half
+// kick and drift that begin the next step (the arithmetic is the same as in separate loops).
 void World::gather_forces(bool kick, bool drift) {
   const long n = static_cast<long>(p_.size());
   const std::size_t nw = walls_.size();
   const double dt = prm_.dt, hdt = 0.5 * dt;
+  const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
   const MaterialTable& mt = prm_.materials;
   const bool have_bonds = !bonds_.empty();
-  const bool owner_sums = owner_sums_;
-  double* x = p_.x.data(); double* y = p_.y.data(); double* z = p_.z.data();
-  double* vx = p_.vx.data(); double* vy = p_.vy.data(); double* vz = p_.vz.data();
-  double* wx = p_.wx.data(); double* wy = p_.wy.data(); double* wz = p_.wz.data();
-  double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
-  double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
-  const double* im = p_.inv_m.data(); const double* iI = p_.inv_I.data();
-  const char* fixed = p_.fixed.data();
-  const double* X0 = x0_.data(); const double* Y0 = y0_.data(); const double* Z0 = z0_.data();
+  const double ovf = prm_.max_overlap_fraction > 0 ? prm_.max_overlap_fraction
+                                                     : std::numeric_limits<double>::infinity();
   std::fill(wforce_thr_.begin(), wforce_thr_.end(), 0.0);
   std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+  bad_thr_.assign(static_cast<std::size_t>(nt_), 0);
   wplane_.resize(4 * nw);
   for (std::size_t k = 0; k < nw; ++k) {
     const PlanarWall& w = walls_[k];
@@ -613,28 +716,23 @@ void World::gather_forces(bool kick, bool drift) {
     wplane_[4 * k + 3] = w.n[0] * w.p[0] + w.n[1] * w.p[1] + w.n[2] * w.p[2];
   }
   const double* wplane = wplane_.data();
+  const State S0 = state_of(p_, x0_, y0_, z0_);
   chunked(nt_, n, [&](long ib, long ie, int th) {
+    const State S = S0;
     double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
+    const uint32_t* BS = bstart_.data();
+    const uint32_t* BR = bref_.data();
+    const BondOutSlot* BO = bout_.data();
+    char* wt = wtouch_.data();
+    std::array<double, 3>* WH = whist_.data();
     double maxd2 = 0;
+    char bad = 0;
     for (long i = ib; i < ie; ++i) {
-      double f[3], t[3];
-      if (owner_sums) {
-        f[0] = fx[i]; f[1] = fy[i]; f[2] = fz[i];
-        t[0] = tx[i]; t[1] = ty[i]; t[2] = tz[i];
-      } else {
-        const double mi = p_.m[i];
-        f[0] = mi * prm_.gravity[0]; f[1] = mi * prm_.gravity[1]; f[2] = mi * prm_.gravity[2];
-        t[0] = t[1] = t[2] = 0.0;
-      }
-      for (uint32_t s = jstart_[i]; s < jstart_[i + 1]; ++s) {
-        const PairOut& o = pout_[jref_[s]];
-        f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
-        t[0] += o.tj[0]; t[1] += o.tj[1]; t[2] += o.tj[2];
-      }
+      double f[3] = {S.fx[i], S.fy[i], S.fz[i]}, t[3] = {S.tx[i], S.ty[i], S.tz[i]};
       if (have_bonds) {
-        for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
-          const uint32_t ref = bref_[s];
-          const BondOutSlot& o = bout_[ref >> 1];
+        for (uint32_t s = BS[i]; s < BS[i + 1]; ++s) {
+          const uint32_t ref = BR[s];
+          const BondOutSlot& o = BO[ref >> 1];
           if (ref & 1u) {  // i is the bond's j
             f[0] += o.f[0]; f[1] += o.f[1]; f[2] += o.f[2];
             t[0] += o.tj[0]; t[1] += o.tj[1]; t[2] += o.tj[2];
@@ -644,47 +742,53 @@ void World::gather_forces(bool kick, bool drift) {
           }
         }
       }
-      const char touched = wtouch_[i];
+      const char touched = wt[i];
       char touching = 0;
+      const double xi = S.x[i], yi = S.y[i], zi = S.z[i], ri = S.r[i];
       for (std::size_t k = 0; k < nw; ++k) {
         const double* wp = wplane + 4 * k;  // n, n . p
-        const double dist = x[i] * wp[0] + y[i] * wp[1] + z[i] * wp[2] - wp[3];
-        if (dist >= p_.r[i]) {  // no contact: clear the history (only read when the particle had wall contacts)
+        const double dist = xi * wp[0] + yi * wp[1] + zi * wp[2] - wp[3];
+        if (dist >= ri) {  // no contact: clear the history (only read when the particle had wall contacts)
           if (touched) {
-            std::array<double, 3>& h0 = whist_[i * nw + k];
+            std::array<double, 3>& h0 = WH[i * nw + k];
             h0[0] = h0[1] = h0[2] = 0.0;
           }
           continue;
         }
         touching = 1;
+        if (ri - dist > ovf * ri) bad = 1;
         const PlanarWall& w = walls_[k];
-        std::array<double, 3>& h = whist_[i * nw + k];
+        std::array<double, 3>& h = WH[i * nw + k];
         const double* nn = w.n;
-        const double wxi = wx[i], wyi = wy[i], wzi = wz[i];
+        const double wxi = S.wx[i], wyi = S.wy[i], wzi = S.wz[i];
         // v_i + w_i x (-dist n) - v_wall
-        const double vrel[3] = {vx[i] - dist * (wyi * nn[2] - wzi * nn[1]) - w.v[0],
-                                vy[i] - dist * (wzi * nn[0] - wxi * nn[2]) - w.v[1],
-                                vz[i] - dist * (wxi * nn[1] - wyi * nn[0]) - w.v[2]};
+        const double vrel[3] = {S.vx[i] - dist * (wyi * nn[2] - wzi * nn[1]) - w.v[0],
+                                S.vy[i] - dist * (wzi * nn[0] - wxi * nn[2]) - w.v[1],
+                                S.vz[i] - dist * (wxi * nn[1] - wyi * nn[0]) - w.v[2]};
         const double wrel[3] = {wxi, wyi, wzi};
         ContactForce c;
-        hertz_mindlin(p_.r[i] - dist, nn, vrel, wrel, p_.r[i], p_.m[i], mt.pair(p_.material[i], w.material), dt,
-                      h.data(), c);
+        hertz_mindlin(ri - dist, nn, vrel, wrel, ri, S.m[i], mt.pair(p_.material[i], w.material), dt, h.data(), c);
         f[0] += c.f[0]; f[1] += c.f[1]; f[2] += c.f[2];
         t[0] += -dist * (nn[1] * c.f[2] - nn[2] * c.f[1]) + c.troll[0];
         t[1] += -dist * (nn[2] * c.f[0] - nn[0] * c.f[2]) + c.troll[1];
         t[2] += -dist * (nn[0] * c.f[1] - nn[1] * c.f[0]) + c.troll[2];
         wf[3 * k] -= c.f[0]; wf[3 * k + 1] -= c.f[1]; wf[3 * k + 2] -= c.f[2];
       }
-      if (touched != touching) wtouch_[i] = touching;
-      fx[i] = f[0]; fy[i] = f[1]; fz[i] = f[2];
-      tx[i] = t[0]; ty[i] = t[1]; tz[i] = t[2];
-      if (kick && !fixed[i]) {
-        vx[i] += hdt * f[0] * im[i]; vy[i] += hdt * f[1] * im[i]; vz[i] += hdt * f[2] * im[i];
-        wx[i] += hdt * t[0] * iI[i]; wy[i] += hdt * t[1] * iI[i]; wz[i] += hdt * t[2] * iI[i];
+      if (touched != touching) wt[i] = touching;
+      S.fx[i] = f[0]; S.fy[i] = f[1]; S.fz[i] = f[2];
+      S.tx[i] = t[0]; S.ty[i] = t[1]; S.tz[i] = t[2];
+      if (kick) {
+        if (!S.fixed[i]) {
+          const double im = S.im[i], iI = S.iI[i];
+          S.vx[i] += hdt * f[0] * im; S.vy[i] += hdt * f[1] * im; S.vz[i] += hdt * f[2] * im;
+          S.wx[i] += hdt * t[0] * iI; S.wy[i] += hdt * t[1] * iI; S.wz[i] += hdt * t[2] * iI;
+        }
+        if (state_bad(S, i)) bad = 1;
       }
-      if (drift) maxd2 = std::max(maxd2, kick_drift(i, true));
+      if (drift) maxd2 = std::max(maxd2, kick_drift_reset(S, i, dt, g));
     }
     if (drift) maxd_thr_[th] = maxd2;
+    if (bad) bad_thr_[th] = 1;
   });
   for (std::size_t k = 0; k < nw; ++k) {
     double s[3] = {0, 0, 0};
@@ -692,6 +796,63 @@ void World::gather_forces(bool kick, bool drift) {
       for (int a = 0; a < 3; ++a) s[a] += wforce_thr_[(static_cast<std::size_t>(th) * nw + k) * 3 + a];
     for (int a = 0; a < 3; ++a) walls_[k].force[a] = s[a];
   }
+  check_blow_up(true);
+}
+
+// After a loop that flagged bad_thr_: finds the first particle (in index order) with a non-finite state or a
+// wall overlap beyond the bound and stops the run.
+void World::check_blow_up(bool walls) {
+  bool any = false;
+  for (char b : bad_thr_) any = any || b;
+  if (!any) return;
+  const long n = static_cast<long>(p_.size());
+  const State S = state_of(p_, x0_, y0_, z0_);
+  const double ovf = prm_.max_overlap_fraction;
+  for (long i = 0; i < n; ++i) {
+    if (state_bad(S, i)) blow_up(i, std::numeric_limits<double>::quiet_NaN(), "non-finite position or velocity");
+    if (!walls || !(ovf > 0)) continue;
+    for (std::size_t k = 0; k < walls_.size(); ++k) {
+      const double* wp = wplane_.data() + 4 * k;
+      const double ov = (p_.r[i] - (S.x[i] * wp[0] + S.y[i] * wp[1] + S.z[i] * wp[2] - wp[3])) / p_.r[i];
+      if (ov > ovf)
+        blow_up(i, ov, "overlap with wall " + std::to_string(k) + " is " + std::to_string(ov) +
+                           " of the radius (bound max_overlap_fraction = " + std::to_string(ovf) + ")");
+    }
+  }
+}
+
+void World::write_state_csv(const std::string& path) const {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  std::fprintf(f, "id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,r,m,material,fixed\n");
+  const Particles& p = p_;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    std::fprintf(f, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d\n",
+                 static_cast<unsigned long long>(p.id[i]), p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i], p.wx[i],
+                 p.wy[i], p.wz[i], p.fx[i], p.fy[i], p.fz[i], p.r[i], p.m[i], p.material[i], int(p.fixed[i]));
+  const bool ok = std::fclose(f) == 0;
+  if (!ok) throw std::runtime_error("cannot write " + path);
+}
+
+// Writes the state dump and throws BlowUp naming the step, the particle and the dump.
+void World::blow_up(long i, double overlap, const std::string& what) {
+  std::string path = prm_.blowup_dump_path;
+  if (path.empty())
+    path = (std::filesystem::temp_directory_path() / ("dem_blowup_" + std::to_string(::getpid()) + ".csv")).string();
+  std::string dump = "state dump " + path;
+  try {
+    write_state_csv(path);
+  } catch (const std::exception& e) {
+    dump = "state dump failed: " + std::string(e.what());
+    path.clear();
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "DEM blow-up at step %ld (t = %.9g s): particle id %llu (index %ld) at (%.6g, %.6g, %.6g) m, "
+                "v (%.6g, %.6g, %.6g) m/s, radius %.6g m: ",
+                nstep_ + 1, t_, static_cast<unsigned long long>(p_.id[i]), i, p_.x[i], p_.y[i], p_.z[i], p_.vx[i],
+                p_.vy[i], p_.vz[i], p_.r[i]);
+  throw BlowUp(std::string(buf) + what + "; " + dump + " (reduce the time step or check the input)", nstep_ + 1,
+               p_.id[i], overlap, path);
 }
 
 // ------------------------------------------------------------------ stepping
@@ -725,9 +886,11 @@ void World::step(long nsteps) {
   };
   // opening half kick + drift of the first step
   std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+  const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
   chunked(nt_, n, [&](long ib, long ie, int th) {
+    const State S = state_of(p_, x0_, y0_, z0_);
     double maxd2 = 0;
-    for (long i = ib; i < ie; ++i) maxd2 = std::max(maxd2, kick_drift(i, true));
+    for (long i = ib; i < ie; ++i) maxd2 = std::max(maxd2, kick_drift_reset(S, i, prm_.dt, g));
     maxd_thr_[th] = maxd2;
   });
   move_walls();
@@ -738,11 +901,11 @@ void World::step(long nsteps) {
     for (double v : maxd_thr_) maxd2 = std::max(maxd2, v);
     if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_) rebuild();
     lap(1);
+    t_ += prm_.dt;
     pair_forces();
     lap(2);
     bond_forces();
     lap(3);
-    t_ += prm_.dt;
     if (interactions_.empty()) {
       gather_forces(true, !last);
       lap(4);
@@ -753,18 +916,24 @@ void World::step(long nsteps) {
       lap(5);
       const double hdt = 0.5 * prm_.dt;
       std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+      bad_thr_.assign(static_cast<std::size_t>(nt_), 0);
       chunked(nt_, n, [&](long ib, long ie, int th) {
+        const State S = state_of(p_, x0_, y0_, z0_);
         double m2 = 0;
+        char bad = 0;
         for (long i = ib; i < ie; ++i) {
-          if (!p_.fixed[i]) {
-            const double im = p_.inv_m[i], iI = p_.inv_I[i];
-            p_.vx[i] += hdt * p_.fx[i] * im; p_.vy[i] += hdt * p_.fy[i] * im; p_.vz[i] += hdt * p_.fz[i] * im;
-            p_.wx[i] += hdt * p_.tx[i] * iI; p_.wy[i] += hdt * p_.ty[i] * iI; p_.wz[i] += hdt * p_.tz[i] * iI;
+          if (!S.fixed[i]) {
+            const double im = S.im[i], iI = S.iI[i];
+            S.vx[i] += hdt * S.fx[i] * im; S.vy[i] += hdt * S.fy[i] * im; S.vz[i] += hdt * S.fz[i] * im;
+            S.wx[i] += hdt * S.tx[i] * iI; S.wy[i] += hdt * S.ty[i] * iI; S.wz[i] += hdt * S.tz[i] * iI;
           }
-          if (!last) m2 = std::max(m2, kick_drift(i, true));
+          if (state_bad(S, i)) bad = 1;
+          if (!last) m2 = std::max(m2, kick_drift_reset(S, i, prm_.dt, g));
         }
         maxd_thr_[th] = m2;
+        if (bad) bad_thr_[th] = 1;
       });
+      check_blow_up(false);
       lap(6);
     }
     if (!last) move_walls();
@@ -796,12 +965,11 @@ std::size_t World::n_contacts() const {
 double World::bytes_per_particle() const {
   const double n = std::max<std::size_t>(p_.size(), 1);
   double b = 19.0 * 8 * p_.x.capacity() + 8.0 * p_.id.capacity() + 4.0 * p_.material.capacity();
-  b += 3.0 * 8 * x0_.capacity() + 4.0 * (istart_.capacity() + jstart_.capacity() + bstart_.capacity());
+  b += 3.0 * 8 * x0_.capacity() + 4.0 * (istart_.capacity() + sorder_.capacity() + bstart_.capacity());
   b += 24.0 * whist_.capacity();
   b += 4.0 * (grid_.items.capacity() + grid_.cell_of.capacity() + grid_.start.capacity());
   // neighbour pairs belong to the particles (contacts)
-  b += (4.0 + 4.0 + 24.0) * (pj_.capacity()) + sizeof(PairOut) * pout_.capacity() + 4.0 * jref_.capacity();
-  b += (4.0 + 4.0 + 24.0) * pj2_.capacity() + 4.0 * cnt_.capacity();
+  b += (4.0 + 4.0 + 24.0 + 1.0) * (pj_.capacity() + pj2_.capacity()) + 4.0 * cnt_.capacity();
   return b / n;
 }
 

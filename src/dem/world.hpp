@@ -2,8 +2,9 @@
 // dem::World: the DEM engine. Spheres (Particles), Hertz-Mindlin contacts with history and rolling friction
 // (hertz_mindlin.hpp), bonds (bond_law.hpp), moving planar walls (walls.hpp) and extra force terms
 // (Interaction, e.g. triangle meshes). Velocity-Verlet integration, cell-list Verlet neighbour list,
-// OpenMP with results identical run to run for a given thread count: every force is computed per pair or
-// per bond into its own slot and gathered per particle in a fixed order.
+// OpenMP with results identical run to run and across thread counts: pair forces are added straight into
+// the particles' force arrays, slab by slab in a fixed three-colour order (slabs of the same colour touch
+// disjoint particles); bond forces go to per-bond slots gathered per particle in a fixed order.
 //
 // Step order: half kick (v += dt/2 F/m, w += dt/2 T/I) -> drift (x += dt v, walls move) -> neighbour list
 // rebuild if any particle moved more than skin/2 -> pair forces (+ gravity) -> bond forces (breaks logged)
@@ -13,6 +14,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -34,6 +37,21 @@ struct WorldParams {
   double max_rayleigh_fraction = 0.5;  // step() refuses dt above this fraction of the Rayleigh step
   bool check_time_step = true;      // step() checks dt (Rayleigh and bonds) whenever particles/bonds changed
   MaterialTable materials = default_table4();
+  // Blow-up detection: step() throws BlowUp when a position or velocity is non-finite or a contact overlap
+  // (particle-particle or planar wall) exceeds this fraction of the smaller radius (<= 0: no overlap check).
+  double max_overlap_fraction = 0.5;
+  // CSV state dump written before BlowUp is thrown; empty: <temp dir>/dem_blowup_<pid>.csv
+  std::string blowup_dump_path;
+};
+
+// Numerical blow-up: what() names the step, the particle and the dump file.
+struct BlowUp : std::runtime_error {
+  BlowUp(const std::string& msg, long step, uint64_t id, double overlap, std::string dump)
+      : std::runtime_error(msg), step(step), id(id), overlap(overlap), dump_path(std::move(dump)) {}
+  long step;              // step count at which it was detected (World::step_count() + 1)
+  uint64_t id;            // particle id
+  double overlap;         // overlap / smaller radius (NaN for a non-finite state)
+  std::string dump_path;  // CSV: id, x, y, z, vx, vy, vz, wx, wy, wz, fx, fy, fz, r, m, material, fixed
 };
 
 class World {
@@ -100,11 +118,10 @@ class World {
   // Wall-clock seconds spent per phase since construction: 0 kick+drift, 1 neighbour rebuild, 2 pair forces,
   // 3 bond forces, 4 gather+walls, 5 interactions, 6 final kick.
   const std::array<double, 7>& phase_seconds() const { return phase_s_; }
+  // Writes the particle state as CSV (the blow-up dump); throws std::runtime_error if the file cannot be written.
+  void write_state_csv(const std::string& path) const;
 
  private:
-  struct PairOut {  // force on i (j gets -f) and torque on j of one neighbour pair
-    double f[3], tj[3];
-  };
   struct BondOutSlot {
     double f[3], ti[3], tj[3];
     double sigma, tau;
@@ -117,8 +134,10 @@ class World {
   void pair_forces();
   void bond_forces();
   void gather_forces(bool kick, bool drift);
-  double kick_drift(long i, bool kick);
   void move_walls();
+  void build_slabs();
+  [[noreturn]] void blow_up(long culprit, double overlap, const std::string& what);
+  void check_blow_up(bool walls);
   bool bonded(uint32_t i, uint32_t j) const;
 
   WorldParams prm_;
@@ -132,33 +151,37 @@ class World {
 
   // neighbour list: pairs (i < j) grouped by owner i: i's pairs are [istart[i], istart[i+1])
   std::size_t npairs_ = 0;
-  std::vector<uint32_t> pj_, pi_;
-  std::vector<std::array<double, 3>> hist_;
-  std::vector<PairOut> pout_;
-  std::vector<uint32_t> istart_, jstart_, jref_;
+  SVec<uint32_t> pj_, pi_;
+  SVec<std::array<double, 3>> hist_;
+  SVec<uint8_t> touch_;  // per pair: touching at the last force evaluation (else its history is zero)
+  SVec<uint32_t> istart_;
+  // slabs of cell layers along the grid's longest axis (set at each build): a pair's particles lie in the same
+  // or adjacent slabs; owners of slab s are sorder_[sstart_[s] .. sstart_[s+1]) in index order
+  SVec<uint32_t> sorder_, sstart_, slab_of_layer_;
   // double buffers for the rebuild
-  std::vector<uint32_t> pj2_, pi2_, cnt_;
-  std::vector<std::array<double, 3>> hist2_;
-  std::vector<double> x0_, y0_, z0_;
+  SVec<uint32_t> pj2_, pi2_, cnt_;
+  SVec<std::array<double, 3>> hist2_;
+  SVec<uint8_t> touch2_;
+  std::vector<char> bad_thr_;  // per thread: overlap beyond the bound seen
+  SVec<double> x0_, y0_, z0_;
   CellGrid grid_;
 
   // walls
   std::vector<PlanarWall> walls_;
-  std::vector<std::array<double, 3>> whist_;  // [particle * n_walls + wall]
+  SVec<std::array<double, 3>> whist_;  // [particle * n_walls + wall]
   std::vector<double> wforce_thr_;            // per thread partial wall forces
-  std::vector<char> wtouch_;                  // per particle: had a wall contact last step
+  SVec<char> wtouch_;                  // per particle: had a wall contact last step
   std::vector<double> wplane_;                // per wall: n, n . p (fast distance test)
   std::vector<double> maxd_thr_;              // per thread max squared displacement since the last build
 
   // bonds
   std::vector<Bond> bonds_;
-  std::vector<BondOutSlot> bout_;
-  std::vector<uint32_t> bstart_, bref_;  // per particle: refs 2 * bond + (0: i side, 1: j side)
+  SVec<BondOutSlot> bout_;
+  SVec<uint32_t> bstart_, bref_;  // per particle: refs 2 * bond + (0: i side, 1: j side)
   std::vector<BondBreak> breaks_;
 
   std::vector<std::shared_ptr<Interaction>> interactions_;
   std::array<double, 7> phase_s_{};
-  bool owner_sums_ = false;  // pair_forces() wrote gravity + owner sums into f, t this step
 };
 
 }  // namespace dem
