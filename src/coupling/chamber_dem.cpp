@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "dem/fragments.hpp"
 #include "dem/mesh_liners.hpp"
@@ -100,6 +101,11 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   concave_ = std::make_shared<dem::MeshContact>(std::move(liners.concave), wp.materials, kSteel);
   cap_ = std::make_shared<dem::MeshContact>(std::move(cap), wp.materials, kSteel);
   hopper_ = std::make_shared<dem::MeshContact>(std::move(hopper), wp.materials, kSteel);
+  // The walls the prefill keeps rock within, as drawn by the meshes above (liner frames, z ascending).
+  for (const auto& q : mant) inner_.z.push_back(q.z), inner_.r.push_back(q.r);
+  inner_.z.push_back(mant.back().z + 0.6 * r_mtop), inner_.r.push_back(0.0);
+  for (const auto& q : conc) outer_.z.push_back(q.z), outer_.r.push_back(q.r);
+  outer_.z.push_back(z_top_ + p_.feed.choke_height_m + 3.0 * rock), outer_.r.push_back(r_ctop);
   concave_->set_regions(std::move(liners.concave_regions));  // 13 x 9 areas P_{ring,sector} (section 4.2.3)
   force_avg_ = dem::RegionAverager(p_.rings * p_.sectors);
   for (auto& m : {mantle_, concave_, cap_, hopper_}) {
@@ -135,6 +141,11 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
   const long n = std::max(1L, static_cast<long>(std::ceil(duration / dt_max_ - 1e-9)));
   const double h = duration / n;
   if (std::abs(h - world_->dt()) > 1e-15 * h) world_->set_dt(h);
+  if (p_.feed.prefill && !prefilled_) {  // at the liners' first pose
+    set_liners(m, c, 0.0);
+    prefill();
+    prefilled_ = true;
+  }
   BodyWrench wm, wc;
   for (long k = 0; k < n; ++k) {
     const double tau = (k + 1) * h;  // positions at the end of the drift of this step
@@ -194,19 +205,96 @@ bool ChamberDem::place_rock(int shape, const Eigen::Vector3d& centre, const Eige
     const double lim = reach + P.r[j];
     if (dx * dx + dy * dy + dz * dz < lim * lim) return false;
   }
-  const std::size_t first = P.size();
-  const double v[3] = {0, 0, -p_.feed.drop_speed_m_s};
+  add_rock(shape, centre, q, Eigen::Vector3d(0, 0, -p_.feed.drop_speed_m_s));
+  return true;
+}
+
+void ChamberDem::add_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q,
+                          const Eigen::Vector3d& v) {
+  const auto& rk = rocks_[shape];
+  const std::size_t first = world_->particles().size();
+  const double va[3] = {v.x(), v.y(), v.z()};
   for (std::size_t i = 0; i < rk.size(); ++i) {
     const Eigen::Vector3d x = centre + q * rk.positions[i];
     const double xa[3] = {x.x(), x.y(), x.z()};
-    world_->add_particle(xa, rk.radii[i], kRock, v);
+    world_->add_particle(xa, rk.radii[i], kRock, va);
   }
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   pairs.reserve(rk.bonds.size());
   for (auto [i, j] : rk.bonds) pairs.emplace_back(first + i, first + j);
   world_->bond_pairs(pairs, bond_);
   fed_kg_ += rock_mass_[shape];
-  return true;
+}
+
+Eigen::Quaterniond ChamberDem::random_orientation() {
+  Eigen::Quaterniond q(rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5);
+  return q.normalized();
+}
+
+// Pre-filled chamber: the feed's rocks, at rest and randomly oriented, placed bottom up in rings of trial
+// positions between the liners (mantle and its cap inside, concave and hopper outside) up to the choke level.
+// A rock goes in when each of its spheres clears both walls and every sphere already placed (random
+// sequential placement: a loose bed, no overlaps). Stops at prefill_max_kg or max_fed_kg.
+void ChamberDem::prefill() {
+  const double limit = std::min(p_.feed.max_fed_kg, p_.feed.prefill_max_kg);
+  const double rock = p_.feed.rock_size_m;
+  const auto& cm = concave_->mesh();
+  const auto& mm = mantle_->mesh();
+  double rmax = 0;
+  for (const auto& rk : rocks_)
+    for (double r : rk.radii) rmax = std::max(rmax, r);
+  // Hash grid over the spheres placed so far (the world holds nothing else at t = 0).
+  const double cell = 2.0 * rmax;
+  auto key = [cell](const Eigen::Vector3d& x, int dx, int dy, int dz) {
+    const long long i = static_cast<long long>(std::floor(x.x() / cell)) + dx;
+    const long long j = static_cast<long long>(std::floor(x.y() / cell)) + dy;
+    const long long k = static_cast<long long>(std::floor(x.z() / cell)) + dz;
+    return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+  };
+  std::unordered_map<long long, std::vector<std::pair<Eigen::Vector3d, double>>> grid;
+  // The concave's flat facets lie inside its circle by up to r (1 - cos(pi / sectors)).
+  const double sag = 1.0 - std::cos(kPi / p_.liner_sectors);
+  auto clear = [&](const Eigen::Vector3d& x, double r) {
+    const Eigen::Vector3d xc = cm.to_body(x), xm = mm.to_body(x);
+    if (xc.z() > z_top_ + p_.feed.choke_height_m - r || xm.z() < inner_.z.front() + r) return false;
+    const double rho_c = std::hypot(xc.x(), xc.y());
+    if (core::signed_distance_inside(outer_, {xc.z(), rho_c}, nullptr) < r + sag * (rho_c + r)) return false;
+    if (core::signed_distance_inside(inner_, {xm.z(), std::hypot(xm.x(), xm.y())}, nullptr) > -r) return false;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find(key(x, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (const auto& [y, ry] : it->second)
+            if ((x - y).squaredNorm() < (r + ry) * (r + ry)) return false;
+        }
+    return true;
+  };
+  const double dz = 0.2 * rock;
+  std::vector<Eigen::Vector3d> xs;
+  for (double zc = inner_.z.front() + 0.5 * rock; zc < z_top_ + p_.feed.choke_height_m; zc += dz) {
+    const double r_in = inner_.radius_at(zc) + 0.3 * rock, r_out = outer_.radius_at(zc) - 0.3 * rock;
+    if (r_out <= r_in) continue;
+    const int tries = static_cast<int>(std::ceil(kPi * (r_in + r_out) / (0.1 * rock)));
+    for (int k = 0; k < tries; ++k) {
+      const int shape = static_cast<int>(rng_.uniform() * rocks_.size()) % static_cast<int>(rocks_.size());
+      const double phi = 2 * kPi * rng_.uniform(), rr = r_in + (r_out - r_in) * rng_.uniform();
+      const Eigen::Vector3d centre = cm.to_world({rr * std::cos(phi), rr * std::sin(phi), zc + dz * (rng_.uniform() - 0.5)});
+      const Eigen::Quaterniond q = random_orientation();
+      const auto& rk = rocks_[shape];
+      xs.clear();
+      bool ok = true;
+      for (std::size_t i = 0; i < rk.size() && ok; ++i) {
+        xs.push_back(centre + q * rk.positions[i]);
+        ok = clear(xs.back(), rk.radii[i]);
+      }
+      if (!ok) continue;
+      if (fed_kg_ + rock_mass_[shape] > limit) return;
+      add_rock(shape, centre, q, Eigen::Vector3d::Zero());
+      prefilled_kg_ += rock_mass_[shape];
+      for (std::size_t i = 0; i < rk.size(); ++i) grid[key(xs[i], 0, 0, 0)].emplace_back(xs[i], rk.radii[i]);
+    }
+  }
 }
 
 // Choke feeding: keep the hopper zone above the chamber top filled, within the feeder's rate.
@@ -229,9 +317,7 @@ void ChamberDem::feed() {
     const double rr = std::sqrt(r_feed_in_ * r_feed_in_ + rng_.uniform() * (r_feed_out_ * r_feed_out_ - r_feed_in_ * r_feed_in_));
     const Eigen::Vector3d centre(concave_origin_.x() + rr * std::cos(phi), concave_origin_.y() + rr * std::sin(phi),
                                  z_hi + 1.2 * p_.feed.rock_size_m);
-    Eigen::Quaterniond q(rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5);
-    q.normalize();
-    if (place_rock(shape, centre, q)) {
+    if (place_rock(shape, centre, random_orientation())) {
       feed_credit_kg_ -= rock_mass_[shape];
       solid += rock_mass_[shape] / 2600.0;
     }

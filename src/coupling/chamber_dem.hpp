@@ -77,6 +77,7 @@ class ChamberDem {
   std::size_t rock_particles(int shape) const { return rocks_.at(shape).size(); }
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
+  double prefilled_kg() const { return prefilled_kg_; }
 
  private:
   void set_liners(const BodyMotion& m, const BodyMotion& c, double tau);
@@ -84,6 +85,9 @@ class ChamberDem {
   void feed();
   void discharge();
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
+  void add_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q, const Eigen::Vector3d& v);
+  void prefill();
+  Eigen::Quaterniond random_orientation();
 
   ChamberParams p_;
   dem::BondParams bond_;
@@ -94,6 +98,9 @@ class ChamberDem {
   dem::RegionAverager force_avg_;
   double force_window_s_ = 0;
   double z_top_ = 0, z_bottom_ = 0, r_feed_in_ = 0, r_feed_out_ = 0;
+  core::Profile inner_, outer_;  // chamber walls in the liner frames: mantle + cap, concave + hopper
+  bool prefilled_ = false;
+  double prefilled_kg_ = 0;
   double dt_max_ = 0;
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0;

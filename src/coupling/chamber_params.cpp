@@ -35,6 +35,8 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
   p.feed.max_rate_kg_s = f.number_or("max_rate_kg_s", p.feed.max_rate_kg_s, 0.01, 1e4, "kg/s");
   p.feed.drop_speed_m_s = f.number_or("drop_speed_m_s", p.feed.drop_speed_m_s, 0, 20, "m/s");
   p.feed.max_fed_kg = f.number_or("max_fed_kg", p.feed.max_fed_kg, 0, 1e9, "kg");
+  p.feed.prefill = f.boolean_or("prefill", p.feed.prefill);
+  p.feed.prefill_max_kg = f.number_or("prefill_max_kg", p.feed.prefill_max_kg, 0, 1e9, "kg");
 
   if (dem.has("bpm_file")) {
     std::string f = dem.text("bpm_file");

@@ -20,6 +20,10 @@ struct FeedParams {
   double max_rate_kg_s = 40.0;     // upper bound of the feeder
   double drop_speed_m_s = 1.0;     // initial downward speed of a fed rock
   double max_fed_kg = 1e9;         // stop feeding after this mass (short test cases)
+  // Pre-filled chamber: at t = 0, rocks at rest fill the chamber between the liners bottom up to the choke
+  // level (or to prefill_max_kg / max_fed_kg), so crushing starts at once; counted as fed.
+  bool prefill = false;
+  double prefill_max_kg = 1e9;
 };
 
 struct ChamberParams {

@@ -94,3 +94,73 @@ TEST(ChamberDem, FeedsCrushesAndReportsConsistentWrenchesAndProduct) {
   EXPECT_GT(map, 0.0);
   EXPECT_NEAR(map, dem.concave().total_normal_force(), 1e-9 * map);
 }
+
+// Pre-filled chamber: at t = 0 the chamber holds bonded rocks at rest between the liners, up to the choke
+// level, none overlapping another rock or a liner, all counted as fed.
+TEST(ChamberDem, PrefillPlacesRocksBetweenTheLinersWithoutOverlap) {
+  auto p = small_chamber();
+  p.feed.prefill = true;
+  p.feed.max_fed_kg = 1e9;
+  p.feed.max_rate_kg_s = 0.01;  // no choke feeding on top: only the prefill is checked
+  coupling::ChamberDem dem(p);
+  auto m = at_rest(p.mantle_com_z_m), c = at_rest(p.concave_com_z_m);
+  dem.advance(m, c, dem.dt());  // places the charge at the liners' first pose, then one DEM step
+  const auto& P = dem.world().particles();
+  const auto s = dem.product();
+  ASSERT_GT(P.size(), 0u);
+  EXPECT_NEAR(s.fed_kg, dem.prefilled_kg(), 1e-12);
+  EXPECT_NEAR(s.fed_kg, s.in_chamber_kg, 1e-9 * s.fed_kg);
+  // Nothing touches a liner (a mesh contact is an overlap), nothing lies outside the concave or the hopper
+  // above it, below the mantle's lower edge or above the choke level (the liner frames are the world's here).
+  for (const auto* mc : {&dem.mantle(), &dem.mantle_cap(), &dem.concave(), &dem.hopper()})
+    EXPECT_TRUE(mc->contacts().empty()) << mc->mesh().name() << " touched by prefilled rock";
+  const double z_choke = p.chamber.concave.z.front() + p.feed.choke_height_m;
+  double z_min = 1e9, v_solid = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const double rho = std::hypot(P.x[i], P.y[i]), z = P.z[i], r = P.r[i];
+    z_min = std::min(z_min, z);
+    v_solid += 4.0 / 3.0 * M_PI * r * r * r;
+    EXPECT_LE(z + r, z_choke + 1e-6) << "particle " << i;
+    EXPECT_GE(z - r, p.chamber.mantle.z.back() - 1e-6) << "particle " << i;
+    EXPECT_LE(rho + r, p.chamber.concave.radius_at(z) + 1e-6) << "particle " << i;
+    if (z < p.chamber.mantle.z.front()) {
+      EXPECT_GE(rho - r, p.chamber.mantle.radius_at(z) - 1e-6) << "particle " << i;
+    }
+  }
+  // No two rocks overlap (spheres of one rock may, as packed and bonded).
+  const auto label = dem.fragment_labels();
+  int overlaps = 0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    for (std::size_t j = i + 1; j < P.size(); ++j) {
+      if (label[i] == label[j]) continue;
+      const double d = std::sqrt(std::pow(P.x[i] - P.x[j], 2) + std::pow(P.y[i] - P.y[j], 2) + std::pow(P.z[i] - P.z[j], 2));
+      if (d < P.r[i] + P.r[j] - 1e-6) ++overlaps;
+    }
+  EXPECT_EQ(overlaps, 0);
+  // Filled bottom up, and densely enough to be a bed: the solid volume is a good part of the chamber's
+  // volume between the lowest sphere and the choke level (annulus between the profiles, hopper above).
+  double v_chamber = 0;
+  const int n = 400;
+  for (int k = 0; k < n; ++k) {
+    const double z = z_min + (k + 0.5) * (z_choke - z_min) / n;
+    const double ro = z > p.chamber.concave.z.front() ? p.chamber.concave.r.front() : p.chamber.concave.radius_at(z);
+    const double ri = z > p.chamber.mantle.z.front() ? 0.0 : p.chamber.mantle.radius_at(z);
+    v_chamber += M_PI * (ro * ro - ri * ri) * (z_choke - z_min) / n;
+  }
+  // Rock volume = solid volume / packing density of the rocks' spheres.
+  double density = 0;
+  for (int k = 0; k < dem.rock_shapes(); ++k) density += dem.packing_density(k) / dem.rock_shapes();
+  const double rock_fraction = v_solid / density / v_chamber;
+  std::printf("prefill: %.3f kg, %zu particles, lowest sphere at %.1f mm, rock volume fraction %.3f\n", s.fed_kg,
+              P.size(), z_min * 1e3, rock_fraction);
+  EXPECT_GT(rock_fraction, 0.2);
+  // Bottom up: rock reaches down to where the radial gap is narrower than a rock.
+  EXPECT_LT(p.chamber.concave.radius_at(z_min) - p.chamber.mantle.radius_at(z_min), p.feed.rock_size_m);
+  // Crushing starts at once: the settling charge bears on the liners within a few tens of ms.
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 40; ++k) {
+    auto [wm, wc] = dem.advance(m, c, 1e-3);
+    if (k >= 20) f += (wm.force + wc.force) / 20.0;
+  }
+  EXPECT_LT(f.z(), -0.5 * 9.81 * s.fed_kg);
+}
