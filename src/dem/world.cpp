@@ -863,6 +863,7 @@ void World::prepare() {
   dt_checked_ = true;
   wforce_thr_.resize(static_cast<std::size_t>(nt_) * walls_.size() * 3);
   maxd_thr_.resize(static_cast<std::size_t>(nt_));
+  bad_thr_.resize(static_cast<std::size_t>(nt_));
 }
 
 void World::move_walls() {
@@ -899,6 +900,10 @@ void World::step(long nsteps) {
     const bool last = s == nsteps - 1;
     double maxd2 = 0;
     for (double v : maxd_thr_) maxd2 = std::max(maxd2, v);
+    if (maxd2 == std::numeric_limits<double>::infinity()) {  // a non-finite position after the drift
+      std::fill(bad_thr_.begin(), bad_thr_.end(), 1);
+      check_blow_up(false);
+    }
     if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_) rebuild();
     lap(1);
     t_ += prm_.dt;

@@ -1,0 +1,173 @@
+// Numerical blow-up (DESIGN.md "Failure behaviour"): World::step stops with dem::BlowUp naming the step, the
+// particle and a CSV state dump when a contact overlap exceeds the bound or a state becomes non-finite.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "dem/world.hpp"
+
+namespace {
+
+std::string fresh_dump(const std::string& name) {
+  const std::string p = ::testing::TempDir() + "dem_blowup_" + name + ".csv";
+  std::remove(p.c_str());
+  return p;
+}
+
+dem::WorldParams params(const std::string& dump, int threads = 1) {
+  dem::WorldParams wp;
+  wp.dt = 1e-7;
+  wp.gravity = {{0, 0, 0}};
+  wp.threads = threads;
+  wp.blowup_dump_path = dump;
+  return wp;
+}
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream f(path);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(f, l);) out.push_back(l);
+  return out;
+}
+
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+TEST(BlowUp, OverlapBeyondTheBoundStopsWithStepParticleAndDump) {
+  const std::string dump = fresh_dump("overlap");
+  dem::World w(params(dump));
+  const double r = 1e-3, a[3] = {0, 0, 0}, b[3] = {1.1 * r, 0, 0};  // overlap 0.9 r
+  w.add_particle(a, r, 0);
+  w.add_particle(b, r, 0);
+  try {
+    w.step(5);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(e.step, 1);
+    EXPECT_EQ(e.id, 0u);
+    EXPECT_NEAR(e.overlap, 0.9, 1e-9);
+    EXPECT_EQ(e.dump_path, dump);
+    EXPECT_TRUE(has(m, "step 1")) << m;
+    EXPECT_TRUE(has(m, "particle id 0")) << m;
+    EXPECT_TRUE(has(m, "overlap with particle id 1 is 0.9")) << m;
+    EXPECT_TRUE(has(m, "max_overlap_fraction")) << m;
+    EXPECT_TRUE(has(m, dump)) << m;
+  }
+  const auto L = lines(dump);
+  ASSERT_EQ(L.size(), 3u);
+  EXPECT_EQ(L[0].rfind("id,x,y,z,vx,vy,vz,", 0), 0u) << L[0];
+  EXPECT_EQ(L[1].rfind("0,0,0,0,", 0), 0u) << L[1];
+  EXPECT_EQ(L[2].rfind("1,0.0011", 0), 0u) << L[2];
+}
+
+TEST(BlowUp, SmallOverlapRunsAndDisabledBoundIsNotChecked) {
+  const double r = 1e-3, a[3] = {0, 0, 0}, b[3] = {1.98 * r, 0, 0}, c[3] = {1.1 * r, 0, 0};
+  dem::World ok(params(fresh_dump("small")));
+  ok.add_particle(a, r, 0);
+  ok.add_particle(b, r, 0);
+  EXPECT_NO_THROW(ok.step(20));
+  dem::WorldParams wp = params(fresh_dump("off"));
+  wp.max_overlap_fraction = 0;
+  dem::World off(wp);
+  off.add_particle(a, r, 0);
+  off.add_particle(c, r, 0);
+  EXPECT_NO_THROW(off.step(1));
+}
+
+TEST(BlowUp, NanVelocityStopsWithTheParticle) {
+  const std::string dump = fresh_dump("nan");
+  dem::World w(params(dump));
+  const double r = 1e-3;
+  for (int k = 0; k < 3; ++k) {
+    const double x[3] = {3 * r * k, 0, 0};
+    w.add_particle(x, r, 0);
+  }
+  w.step(10);
+  w.particles().vy[1] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    w.step(5);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(e.step, 11);
+    EXPECT_EQ(e.id, 1u);
+    EXPECT_TRUE(std::isnan(e.overlap));
+    EXPECT_TRUE(has(m, "step 11")) << m;
+    EXPECT_TRUE(has(m, "particle id 1")) << m;
+    EXPECT_TRUE(has(m, "non-finite")) << m;
+  }
+  const auto L = lines(dump);
+  ASSERT_EQ(L.size(), 4u);
+  EXPECT_TRUE(has(L[2], "nan")) << L[2];
+  EXPECT_FALSE(has(L[1], "nan")) << L[1];
+}
+
+// An extra force term (Interaction) that returns an infinite force: caught by the closing half kick.
+struct InfiniteForce : dem::Interaction {
+  long calls = 0;
+  void add_forces(dem::Particles& p, double, double) override {
+    if (++calls == 3) p.fx[1] = std::numeric_limits<double>::infinity();
+  }
+};
+
+TEST(BlowUp, InfiniteForceIsCaughtAtTheEndOfTheStep) {
+  dem::World w(params(fresh_dump("inf")));
+  const double r = 1e-3;
+  for (int k = 0; k < 2; ++k) {
+    const double x[3] = {3 * r * k, 0, 0};
+    w.add_particle(x, r, 0);
+  }
+  w.add_interaction(std::make_shared<InfiniteForce>());
+  try {
+    w.step(10);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    EXPECT_EQ(e.step, 3);
+    EXPECT_EQ(e.id, 1u);
+    EXPECT_TRUE(has(e.what(), "non-finite")) << e.what();
+  }
+}
+
+TEST(BlowUp, WallOverlapBeyondTheBound) {
+  dem::World w(params(fresh_dump("wall")));
+  const double r = 1e-3, o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, x[3] = {0, 0, 0.1 * r};
+  w.add_plane(o, up, 0);
+  w.add_particle(x, r, 0);
+  try {
+    w.step(1);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    EXPECT_TRUE(has(e.what(), "overlap with wall 0 is 0.9")) << e.what();
+    EXPECT_NEAR(e.overlap, 0.9, 1e-9);
+  }
+}
+
+// Many particles on two threads (the parallel pair loop): the first offending pair in list order is named.
+TEST(BlowUp, ParallelPairLoopNamesTheOffendingParticle) {
+  dem::World w(params(fresh_dump("par"), 2));
+  const double r = 1e-3, s = 2.1 * r;
+  for (int k = 0; k < 2000; ++k) {
+    const double x[3] = {s * (k % 20), s * ((k / 20) % 20), s * (k / 400)};
+    w.add_particle(x, r, 0);
+  }
+  w.step(2);
+  ASSERT_GT(w.n_pairs(), 2000u);
+  auto& p = w.particles();
+  p.x[1234] = p.x[1233] + 1.2 * r;  // 0.8 r into its neighbour in x
+  w.invalidate_neighbors();
+  try {
+    w.step(1);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    EXPECT_EQ(e.id, 1233u) << e.what();
+    EXPECT_TRUE(has(e.what(), "overlap with particle id 1234 is 0.8")) << e.what();
+  }
+}
+
+}  // namespace
