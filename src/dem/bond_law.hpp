@@ -61,8 +61,10 @@ inline int bond_update(Bond& b, const double xi[3], const double xj[3], const do
   // Eq. 24
   const double ft_mag = std::sqrt(ft[0] * ft[0] + ft[1] * ft[1] + ft[2] * ft[2]);
   const double tt_mag = std::sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]);
-  const double sigma = -fn / b.A + 2.0 * tt_mag * b.rb / b.J;
-  const double tau = ft_mag / b.A + std::fabs(tn) * b.rb / b.J;
+  // sigma = -F_n/A + 2 |T_t| R/J, tau = |F_t|/A + |T_n| R/J over the common denominator A J (one division)
+  const double iAJ = 1.0 / (b.A * b.J), rA = b.rb * b.A;
+  const double sigma = (-fn * b.J + 2.0 * tt_mag * rA) * iAJ;
+  const double tau = (ft_mag * b.J + std::fabs(tn) * rA) * iAJ;
   out.sigma = sigma;
   out.tau = tau;
   // Eq. 25

@@ -309,6 +309,7 @@ void World::rebuild_bond_csr() {
     bref_[cnt_[bonds_[b].j]++] = static_cast<uint32_t>(2 * b + 1);
   }
   bout_.resize(nb);
+  bcode_.resize(nb);
   bonds_dirty_ = false;
 }
 
@@ -601,39 +602,49 @@ void World::bond_forces() {
   if (nb == 0) return;
   const double dt = prm_.dt;
   std::array<long, 256> nbr{};
-  chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
-  for (long b = bb; b < be; ++b) {
-    Bond& bd = bonds_[b];
-    BondOutSlot& o = bout_[b];
-    if (!bd.alive) {
-      for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
-      o.code = 0;
-      continue;
-    }
+  const Particles& P = p_;
+  auto update = [&P, dt](Bond& bd, BondOut& out) {
     const uint32_t i = bd.i, j = bd.j;
-    const double xi[3] = {p_.x[i], p_.y[i], p_.z[i]}, xj[3] = {p_.x[j], p_.y[j], p_.z[j]};
-    const double vi[3] = {p_.vx[i], p_.vy[i], p_.vz[i]}, vj[3] = {p_.vx[j], p_.vy[j], p_.vz[j]};
-    const double wi[3] = {p_.wx[i], p_.wy[i], p_.wz[i]}, wj[3] = {p_.wx[j], p_.wy[j], p_.wz[j]};
-    BondOut out;
-    const int code = bond_update(bd, xi, xj, vi, vj, wi, wj, p_.r[i], p_.r[j], p_.m[i], p_.m[j], 1.0 / p_.inv_I[i],
-                                 1.0 / p_.inv_I[j], dt, out);
-    for (int k = 0; k < 3; ++k) {
-      o.f[k] = out.f[k];
-      o.ti[k] = out.ti[k];
-      o.tj[k] = out.tj[k];
+    const double xi[3] = {P.x[i], P.y[i], P.z[i]}, xj[3] = {P.x[j], P.y[j], P.z[j]};
+    const double vi[3] = {P.vx[i], P.vy[i], P.vz[i]}, vj[3] = {P.vx[j], P.vy[j], P.vz[j]};
+    const double wi[3] = {P.wx[i], P.wy[i], P.wz[i]}, wj[3] = {P.wx[j], P.wy[j], P.wz[j]};
+    return bond_update(bd, xi, xj, vi, vj, wi, wj, P.r[i], P.r[j], P.m[i], P.m[j], 1.0 / P.inv_I[i],
+                       1.0 / P.inv_I[j], dt, out);
+  };
+  chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
+    Bond* B = bonds_.data();
+    BondOutSlot* O = bout_.data();
+    uint8_t* C = bcode_.data();
+    long broken = 0;
+    for (long b = bb; b < be; ++b) {
+      BondOutSlot& o = O[b];
+      if (!B[b].alive) {
+        for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
+        C[b] = 0;
+        continue;
+      }
+      BondOut out;
+      const int code = update(B[b], out);
+      for (int k = 0; k < 3; ++k) {
+        o.f[k] = out.f[k];
+        o.ti[k] = out.ti[k];
+        o.tj[k] = out.tj[k];
+      }
+      C[b] = static_cast<uint8_t>(code);
+      broken += code != 0;
     }
-    o.sigma = out.sigma;
-    o.tau = out.tau;
-    o.code = code;
-    if (code) ++nbr[th];
-  }
+    nbr[th] = broken;
   });
   long nbroken = 0;
   for (long c : nbr) nbroken += c;
   if (nbroken == 0) return;
   for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
-    if (!bout_[b].code) continue;
+    if (!bcode_[b]) continue;
     Bond& bd = bonds_[b];
+    // a breaking bond kept its spring state: the same update again gives its stresses
+    Bond scratch = bd;
+    BondOut out;
+    update(scratch, out);
     bd.alive = 0;
     BondBreak e;
     e.t = t_;  // already the end of this step
@@ -643,9 +654,9 @@ void World::bond_forces() {
     e.x[2] = p_.z[bd.i] + s * (p_.z[bd.j] - p_.z[bd.i]);
     e.id_i = p_.id[bd.i];
     e.id_j = p_.id[bd.j];
-    e.tensile = bout_[b].code == 1;
-    e.sigma = bout_[b].sigma;
-    e.tau = bout_[b].tau;
+    e.tensile = bcode_[b] == 1;
+    e.sigma = out.sigma;
+    e.tau = out.tau;
     breaks_.push_back(e);
   }
   // the broken pairs take part in Hertz-Mindlin contact from the next step on
@@ -980,7 +991,8 @@ double World::bytes_per_particle() const {
 
 double World::bytes_per_bond() const {
   const double nb = std::max<std::size_t>(bonds_.size(), 1);
-  return (sizeof(Bond) * bonds_.capacity() + sizeof(BondOutSlot) * bout_.capacity() + 4.0 * bref_.capacity()) / nb;
+  return (sizeof(Bond) * bonds_.capacity() + sizeof(BondOutSlot) * bout_.capacity() + bcode_.capacity() +
+          4.0 * bref_.capacity()) / nb;
 }
 
 }  // namespace dem

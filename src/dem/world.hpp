@@ -122,10 +122,8 @@ class World {
   void write_state_csv(const std::string& path) const;
 
  private:
-  struct BondOutSlot {
+  struct BondOutSlot {  // force on j (i gets -f), torques on i and j
     double f[3], ti[3], tj[3];
-    double sigma, tau;
-    int code;
   };
   void prepare();
   void rebuild();
@@ -177,6 +175,7 @@ class World {
   // bonds
   std::vector<Bond> bonds_;
   SVec<BondOutSlot> bout_;
+  SVec<uint8_t> bcode_;  // per bond, last step: 0 intact, 1 broke in tension, 2 in shear
   SVec<uint32_t> bstart_, bref_;  // per particle: refs 2 * bond + (0: i side, 1: j side)
   std::vector<BondBreak> breaks_;
 
