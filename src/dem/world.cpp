@@ -494,33 +494,36 @@ void World::build_slabs() {
 }
 
 // ------------------------------------------------------------------ forces
-// Pair forces, added straight into f, t (which hold gravity at this point). Slabs are processed in three
-// colours (s mod 3) one after the other; a slab's pairs only write to particles of slabs s-1..s+1, so slabs of
-// one colour run in parallel without conflicts, and each particle receives its terms in the same order
-// whatever the thread count or the schedule. Non-touching pairs cost a distance test (and a history reset
+// Pair forces, added straight into f, t (which hold gravity at this point). A slab's pairs only write to
+// particles of slabs s-1..s+1, so blocks of >= 2 slabs of one parity run in parallel without conflicts (even
+// blocks, then odd ones), and each particle receives its terms in the same order whatever the thread count
+// or the schedule. Non-touching pairs cost a distance test (and a history reset
 // when they just separated).
 void World::pair_forces() {
   if (npairs_ == 0) return;
-  const double dt = prm_.dt;
-  const MaterialTable& mt = prm_.materials;
-  const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
-  const double* vx = p_.vx.data(); const double* vy = p_.vy.data(); const double* vz = p_.vz.data();
-  const double* wx = p_.wx.data(); const double* wy = p_.wy.data(); const double* wz = p_.wz.data();
-  const double* r = p_.r.data(); const double* im = p_.inv_m.data();
-  const int* mat = p_.material.data();
-  double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
-  double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
-  const uint32_t* PJ = pj_.data();
-  const uint32_t* IS = istart_.data();
-  const uint32_t* SO = sorder_.data();
-  const uint32_t* SS = sstart_.data();
-  std::array<double, 3>* H = hist_.data();
-  uint8_t* TC = touch_.data();
   const double ovf = prm_.max_overlap_fraction > 0 ? prm_.max_overlap_fraction
                                                      : std::numeric_limits<double>::infinity();
   bad_thr_.assign(static_cast<std::size_t>(nt_), 0);
-  char* bad = bad_thr_.data();
-  auto slab = [&](long s, int th) {
+  constexpr uint32_t kBlock = 32;
+  constexpr long kSlabsPerBlock = 4;  // >= 2
+  auto slab = [this, ovf](long s, int th) {
+    // local copies: the byte stores below (touch flags) may alias anything, members would be reloaded
+    const double dt = prm_.dt;
+    const PairProps* PP = &prm_.materials.pair(0, 0);  // row-major n x n table
+    const int nm = prm_.materials.n();
+    const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
+    const double* vx = p_.vx.data(); const double* vy = p_.vy.data(); const double* vz = p_.vz.data();
+    const double* wx = p_.wx.data(); const double* wy = p_.wy.data(); const double* wz = p_.wz.data();
+    const double* r = p_.r.data(); const double* im = p_.inv_m.data();
+    const int* mat = p_.material.data();
+    double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
+    double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
+    const uint32_t* PJ = pj_.data();
+    const uint32_t* IS = istart_.data();
+    const uint32_t* SO = sorder_.data();
+    const uint32_t* SS = sstart_.data();
+    std::array<double, 3>* H = hist_.data();
+    uint8_t* TC = touch_.data();
     char seen = 0;
     for (uint32_t k = SS[s]; k < SS[s + 1]; ++k) {
       const uint32_t i = SO[k];
@@ -530,61 +533,104 @@ void World::pair_forces() {
       const double vxi = vx[i], vyi = vy[i], vzi = vz[i], wxi = wx[i], wyi = wy[i], wzi = wz[i];
       const int mati = mat[i];
       double f0 = 0, f1 = 0, f2 = 0, t0 = 0, t1 = 0, t2 = 0;
-      for (uint32_t q = qb; q < qe; ++q) {
-        const uint32_t j = PJ[q];
-        const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-        const double rs = ri + r[j];
-        const double d2 = dx * dx + dy * dy + dz * dz;
-        if (d2 >= rs * rs) {
-          if (TC[q]) {
-            H[q][0] = H[q][1] = H[q][2] = 0.0;
-            TC[q] = 0;
-          }
-          continue;
+      // blocks of pairs: a branch-free distance pass lists the touching ones, then their forces (touching
+      // or not is close to random in a dense packing: no mispredicted branch per pair)
+      for (uint32_t q0 = qb; q0 < qe; q0 += kBlock) {
+        const uint32_t q1 = std::min(qe, q0 + kBlock);
+        uint32_t tq[kBlock];
+        double td2[kBlock];
+        uint32_t nb = 0;
+        for (uint32_t q = q0; q < q1; ++q) {
+          const uint32_t j = PJ[q];
+          const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+          const double rs = ri + r[j];
+          const double d2 = dx * dx + dy * dy + dz * dz;
+          const uint8_t now = d2 < rs * rs, before = TC[q];
+          TC[q] = now;
+          tq[nb] = q;
+          td2[nb] = d2;
+          nb += now;
+          if (before > now) H[q][0] = H[q][1] = H[q][2] = 0.0;  // separated: history reset
         }
-        TC[q] = 1;
-        const double d = std::sqrt(d2), id = 1.0 / d, irs = 1.0 / rs;
-        const double n[3] = {dx * id, dy * id, dz * id};  // from j to i
-        const double ai = d * ri * irs, aj = d - ai;       // centre-to-contact distances
+      // touching pairs 4 at a time (Lanes4; a short last group repeats its first pair in the spare lanes,
+      // whose results are dropped)
+      for (uint32_t k0 = 0; k0 < nb; k0 += 4) {
+        uint32_t qs[4], js[4];
+        Lanes4 dx, dy, dz, d2, rj, imj, vxj, vyj, vzj, wxj, wyj, wzj, hx, hy, hz;
+        Lanes4 E, G, be, skk, fr, mur;
+        for (int l = 0; l < 4; ++l) {
+          const uint32_t k = k0 + l < nb ? k0 + l : k0;
+          const uint32_t q = tq[k], j = PJ[q];
+          qs[l] = q;
+          js[l] = j;
+          dx[l] = xi - x[j]; dy[l] = yi - y[j]; dz[l] = zi - z[j];
+          d2[l] = td2[k];
+          rj[l] = r[j]; imj[l] = im[j];
+          vxj[l] = vx[j]; vyj[l] = vy[j]; vzj[l] = vz[j];
+          wxj[l] = wx[j]; wyj[l] = wy[j]; wzj[l] = wz[j];
+          hx[l] = H[q][0]; hy[l] = H[q][1]; hz[l] = H[q][2];
+          const PairProps& pp = PP[mati * nm + mat[j]];
+          E[l] = pp.E_star; G[l] = pp.G_star; be[l] = pp.beta; fr[l] = pp.friction; mur[l] = pp.rolling_friction;
+          skk[l] = pp.sqrt_kt_kn > 0 ? pp.sqrt_kt_kn : std::sqrt(4.0 * pp.G_star / pp.E_star);
+        }
+        const Lanes4 rs = ri + rj;
+        const Lanes4 d = lanes::sqrt(d2), id = 1.0 / d, irs = 1.0 / rs;
+        const Lanes4 n[3] = {dx * id, dy * id, dz * id};  // from j to i
+        const Lanes4 ai = d * ri * irs, aj = d - ai;       // centre-to-contact distances
         // v_i + w_i x (-ai n) - v_j - w_j x (aj n)
-        const double vrel[3] = {vxi - vx[j] - ai * (wyi * n[2] - wzi * n[1]) - aj * (wy[j] * n[2] - wz[j] * n[1]),
-                                vyi - vy[j] - ai * (wzi * n[0] - wxi * n[2]) - aj * (wz[j] * n[0] - wx[j] * n[2]),
-                                vzi - vz[j] - ai * (wxi * n[1] - wyi * n[0]) - aj * (wx[j] * n[1] - wy[j] * n[0])};
-        const double wrel[3] = {wxi - wx[j], wyi - wy[j], wzi - wz[j]};
-        const double reff = ri * r[j] * irs, meff = 1.0 / (imi + im[j]);
-        const double delta = rs - d;
-        if (delta > ovf * std::min(ri, r[j])) seen = 1;
-        ContactForce c;
-        hertz_mindlin(delta, n, vrel, wrel, reff, meff, mt.pair(mati, mat[j]), dt, H[q].data(), c);
+        const Lanes4 vrel[3] = {vxi - vxj - ai * (wyi * n[2] - wzi * n[1]) - aj * (wyj * n[2] - wzj * n[1]),
+                                vyi - vyj - ai * (wzi * n[0] - wxi * n[2]) - aj * (wzj * n[0] - wxj * n[2]),
+                                vzi - vzj - ai * (wxi * n[1] - wyi * n[0]) - aj * (wxj * n[1] - wyj * n[0])};
+        const Lanes4 wrel[3] = {wxi - wxj, wyi - wyj, wzi - wzj};
+        const Lanes4 reff = ri * rj * irs, meff = 1.0 / (imi + imj);
+        const Lanes4 delta = rs - d;
+        Lanes4 h[3] = {hx, hy, hz}, fn, f[3], ft[3], tr[3];
+        hertz_mindlin_lanes<Lanes4>(delta, n, vrel, wrel, reff, meff, E, G, be, skk, fr, mur, dt, h, fn, f, ft, tr);
         // torques: -ai n x f + T_r on i ; (aj n) x (-f) - T_r on j
-        const double cx = n[1] * c.f[2] - n[2] * c.f[1], cy = n[2] * c.f[0] - n[0] * c.f[2],
-                     cz = n[0] * c.f[1] - n[1] * c.f[0];
-        f0 += c.f[0]; f1 += c.f[1]; f2 += c.f[2];
-        t0 += -ai * cx + c.troll[0]; t1 += -ai * cy + c.troll[1]; t2 += -ai * cz + c.troll[2];
-        fx[j] -= c.f[0]; fy[j] -= c.f[1]; fz[j] -= c.f[2];
-        tx[j] += -aj * cx - c.troll[0]; ty[j] += -aj * cy - c.troll[1]; tz[j] += -aj * cz - c.troll[2];
+        const Lanes4 cx = n[1] * f[2] - n[2] * f[1], cy = n[2] * f[0] - n[0] * f[2], cz = n[0] * f[1] - n[1] * f[0];
+        const Lanes4 ti0 = -ai * cx + tr[0], ti1 = -ai * cy + tr[1], ti2 = -ai * cz + tr[2];
+        const Lanes4 tj0 = -aj * cx - tr[0], tj1 = -aj * cy - tr[1], tj2 = -aj * cz - tr[2];
+        const uint32_t nl = std::min<uint32_t>(4, nb - k0);
+        for (uint32_t l = 0; l < nl; ++l) {
+          const uint32_t q = qs[l], j = js[l];
+          if (delta[l] > ovf * std::min(ri, rj[l])) seen = 1;
+          H[q][0] = h[0][l]; H[q][1] = h[1][l]; H[q][2] = h[2][l];
+          f0 += f[0][l]; f1 += f[1][l]; f2 += f[2][l];
+          t0 += ti0[l]; t1 += ti1[l]; t2 += ti2[l];
+          fx[j] -= f[0][l]; fy[j] -= f[1][l]; fz[j] -= f[2][l];
+          tx[j] += tj0[l]; ty[j] += tj1[l]; tz[j] += tj2[l];
+        }
+      }
       }
       fx[i] += f0; fy[i] += f1; fz[i] += f2;
       tx[i] += t0; ty[i] += t1; tz[i] += t2;
     }
-    if (seen) bad[th] = 1;
+    if (seen) bad_thr_[th] = 1;
   };
+  // blocks of kSlabsPerBlock consecutive slabs, even blocks then odd ones; a block writes to its slabs and
+  // the one on each side, which belong to blocks of the other parity
   const long ns = static_cast<long>(sstart_.size()) - 1;
-  if (nt_ > 1 && npairs_ >= static_cast<std::size_t>(kMinParallel) && ns > 3) {
+  const long nblk = (ns + kSlabsPerBlock - 1) / kSlabsPerBlock;
+  auto block = [&](long b, int th) {
+    for (long s = b * kSlabsPerBlock; s < std::min(ns, (b + 1) * kSlabsPerBlock); ++s) slab(s, th);
+  };
+  if (nt_ > 1 && npairs_ >= static_cast<std::size_t>(kMinParallel) && nblk > 2) {
 #pragma omp parallel num_threads(nt_)
     {
       const int th = omp_get_thread_num();
-      for (long c = 0; c < 3; ++c) {
+      for (long c = 0; c < 2; ++c) {
 #pragma omp for schedule(dynamic, 1)
-        for (long s = c; s < ns; s += 3) slab(s, th);
+        for (long b = c; b < nblk; b += 2) block(b, th);
       }
     }
   } else {
-    for (long c = 0; c < 3; ++c)
-      for (long s = c; s < ns; s += 3) slab(s, 0);
+    for (long c = 0; c < 2; ++c)
+      for (long b = c; b < nblk; b += 2) block(b, 0);
   }
   for (char b : bad_thr_)
     if (b) {  // the first pair (in list order) beyond the bound
+      const double* x = p_.x.data(); const double* y = p_.y.data(); const double* z = p_.z.data();
+      const double* r = p_.r.data();
       for (std::size_t q = 0; q < npairs_; ++q) {
         const uint32_t i = pi_[q], j = pj_[q];
         const double dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
