@@ -18,12 +18,13 @@ struct BondOut {
   double sigma, tau;
 };
 
-// xi, xj: centres; vi, vj, wi, wj: (half-step) velocities; ri, rj radii; mi, mj masses, Ii, Ij inertia.
-// Updates the spring state of b by one step dt and writes the force/torques. Returns 0 if intact,
-// 1 if broken in tension, 2 if broken in shear (then out is zero and the spring state is left as it was).
+// xi, xj: centres; vi, vj, wi, wj: (half-step) velocities; ri, rj radii; inverse masses and inverse moments
+// of inertia (used by the optional damping only). Updates the spring state of b by one step dt and writes the
+// force/torques. Returns 0 if intact, 1 if broken in tension, 2 if broken in shear (then out is zero and the
+// spring state is left as it was).
 inline int bond_update(Bond& b, const double xi[3], const double xj[3], const double vi[3], const double vj[3],
-                       const double wi[3], const double wj[3], double ri, double rj, double mi, double mj,
-                       double Ii, double Ij, double dt, BondOut& out) {
+                       const double wi[3], const double wj[3], double ri, double rj, double inv_mi, double inv_mj,
+                       double inv_Ii, double inv_Ij, double dt, BondOut& out) {
   double n[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
   const double d = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   const double inv_d = 1.0 / d;
@@ -82,7 +83,7 @@ inline int bond_update(Bond& b, const double xi[3], const double xj[3], const do
     tj[k] = tn * n[k] + tt[k];
   }
   if (b.damping > 0.0) {  // optional viscous damping (BondParams::damping)
-    const double M = mi * mj / (mi + mj), I = Ii * Ij / (Ii + Ij);
+    const double M = 1.0 / (inv_mi + inv_mj), I = 1.0 / (inv_Ii + inv_Ij);
     const double z2 = 2.0 * b.damping;
     const double cn = z2 * std::sqrt(M * knA), ct = z2 * std::sqrt(M * ktA);
     const double crn = z2 * std::sqrt(I * ktJ), crt = z2 * std::sqrt(I * knI);

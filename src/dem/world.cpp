@@ -654,8 +654,8 @@ void World::bond_forces() {
     const double xi[3] = {P.x[i], P.y[i], P.z[i]}, xj[3] = {P.x[j], P.y[j], P.z[j]};
     const double vi[3] = {P.vx[i], P.vy[i], P.vz[i]}, vj[3] = {P.vx[j], P.vy[j], P.vz[j]};
     const double wi[3] = {P.wx[i], P.wy[i], P.wz[i]}, wj[3] = {P.wx[j], P.wy[j], P.wz[j]};
-    return bond_update(bd, xi, xj, vi, vj, wi, wj, P.r[i], P.r[j], P.m[i], P.m[j], 1.0 / P.inv_I[i],
-                       1.0 / P.inv_I[j], dt, out);
+    return bond_update(bd, xi, xj, vi, vj, wi, wj, P.r[i], P.r[j], P.inv_m[i], P.inv_m[j], P.inv_I[i],
+                       P.inv_I[j], dt, out);
   };
   chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
     Bond* B = bonds_.data();
