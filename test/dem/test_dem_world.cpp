@@ -10,8 +10,8 @@
 
 namespace {
 
-// A poured polydisperse packing in a box with two bonded clusters, 2 threads.
-std::vector<double> run_packing(int threads, long steps) {
+// A poured polydisperse packing in a box with two bonded clusters.
+std::vector<double> run_packing(int threads, long steps, int count = 640) {
   dem::WorldParams wp;
   wp.dt = 1e-6;
   wp.threads = threads;
@@ -21,7 +21,7 @@ std::vector<double> run_packing(int threads, long steps) {
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> U(0, 1);
   // 8 x 8 x 10 grid of 2 mm spacing, radii 0.6-0.95 mm, jittered, falling onto the floor
-  for (int k = 0; k < 640; ++k) {
+  for (int k = 0; k < count; ++k) {
     const double r = 0.6e-3 + 0.35e-3 * U(rng);
     const double x[3] = {0.003 + 0.002 * (k % 8) + 0.1e-3 * U(rng), 0.003 + 0.002 * ((k / 8) % 8) + 0.1e-3 * U(rng),
                          0.0011 + 0.002 * (k / 64)};
@@ -53,9 +53,21 @@ TEST(World, SameThreadCountGivesBitwiseIdenticalResults) {
   }
   EXPECT_GT(a[a.size() - 2], 20.0);  // a dense, colliding state (contact count)
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
-  // the pair forces are gathered per particle in a fixed order, so 1 thread gives the same positions too
+  // every particle receives its pair and bond terms in one fixed order (slab blocks), so 1 thread gives the
+  // same positions too
   const auto c = run_packing(1, 6000);
   for (std::size_t k = 0; k + 3 < a.size(); ++k) ASSERT_EQ(a[k], c[k]) << k;
+}
+
+// Above the serial threshold (1024 particles) every loop runs in parallel: 2 threads twice, 3 and 1 thread.
+TEST(World, LargePackingIsBitwiseIdenticalRunToRunAndAcrossThreadCounts) {
+  const auto a = run_packing(2, 2500, 2000), b = run_packing(2, 2500, 2000);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_GT(a[a.size() - 2], 40.0);  // colliding (contact count)
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+  const auto c = run_packing(3, 2500, 2000), d = run_packing(1, 2500, 2000);
+  EXPECT_EQ(std::memcmp(a.data(), c.data(), a.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(a.data(), d.data(), a.size() * sizeof(double)), 0);
 }
 
 // Neighbour list + Verlet skin must not miss contacts: compare the contact count with brute force while the
