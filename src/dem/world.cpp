@@ -310,6 +310,8 @@ void World::rebuild_bond_csr() {
   }
   bout_.resize(nb);
   bcode_.resize(nb);
+  bonds_damped_ = false;
+  for (const Bond& b : bonds_) bonds_damped_ = bonds_damped_ || b.damping > 0.0;
   bonds_dirty_ = false;
 }
 
@@ -649,35 +651,57 @@ void World::bond_forces() {
   const double dt = prm_.dt;
   std::array<long, 256> nbr{};
   const Particles& P = p_;
-  auto update = [&P, dt](Bond& bd, BondOut& out) {
-    const uint32_t i = bd.i, j = bd.j;
-    const double xi[3] = {P.x[i], P.y[i], P.z[i]}, xj[3] = {P.x[j], P.y[j], P.z[j]};
-    const double vi[3] = {P.vx[i], P.vy[i], P.vz[i]}, vj[3] = {P.vx[j], P.vy[j], P.vz[j]};
-    const double wi[3] = {P.wx[i], P.wy[i], P.wz[i]}, wj[3] = {P.wx[j], P.wy[j], P.wz[j]};
-    return bond_update(bd, xi, xj, vi, vj, wi, wj, P.r[i], P.r[j], P.inv_m[i], P.inv_m[j], P.inv_I[i],
-                       P.inv_I[j], dt, out);
-  };
+  const bool damped = bonds_damped_;
+  // 4 bonds at a time (Lanes4; a short last group repeats its first bond in the spare lanes)
   chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
     Bond* B = bonds_.data();
     BondOutSlot* O = bout_.data();
     uint8_t* C = bcode_.data();
+    const double* x = P.x.data(); const double* y = P.y.data(); const double* z = P.z.data();
+    const double* vx = P.vx.data(); const double* vy = P.vy.data(); const double* vz = P.vz.data();
+    const double* wx = P.wx.data(); const double* wy = P.wy.data(); const double* wz = P.wz.data();
+    const double* r = P.r.data(); const double* im = P.inv_m.data(); const double* iI = P.inv_I.data();
     long broken = 0;
-    for (long b = bb; b < be; ++b) {
-      BondOutSlot& o = O[b];
-      if (!B[b].alive) {
-        for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
-        C[b] = 0;
-        continue;
+    for (long b0 = bb; b0 < be; b0 += 4) {
+      Lanes4 xi[3], xj[3], vi[3], vj[3], wi[3], wj[3], ri, rj, imi, imj, iIi, iIj, kn, kt, A, J, rb, zeta;
+      Lanes4 fn, ft[3], tn, tt[3], sigma, tau, f[3], ti[3], tj[3];
+      for (int l = 0; l < 4; ++l) {
+        const Bond& bd = B[b0 + l < be ? b0 + l : b0];
+        const uint32_t i = bd.i, j = bd.j;
+        xi[0][l] = x[i]; xi[1][l] = y[i]; xi[2][l] = z[i]; xj[0][l] = x[j]; xj[1][l] = y[j]; xj[2][l] = z[j];
+        vi[0][l] = vx[i]; vi[1][l] = vy[i]; vi[2][l] = vz[i]; vj[0][l] = vx[j]; vj[1][l] = vy[j]; vj[2][l] = vz[j];
+        wi[0][l] = wx[i]; wi[1][l] = wy[i]; wi[2][l] = wz[i]; wj[0][l] = wx[j]; wj[1][l] = wy[j]; wj[2][l] = wz[j];
+        ri[l] = r[i]; rj[l] = r[j]; imi[l] = im[i]; imj[l] = im[j]; iIi[l] = iI[i]; iIj[l] = iI[j];
+        kn[l] = bd.kn; kt[l] = bd.kt; A[l] = bd.A; J[l] = bd.J; rb[l] = bd.rb; zeta[l] = bd.damping;
+        fn[l] = bd.fn; tn[l] = bd.tn;
+        for (int k = 0; k < 3; ++k) {
+          ft[k][l] = bd.ft[k];
+          tt[k][l] = bd.tt[k];
+        }
       }
-      BondOut out;
-      const int code = update(B[b], out);
-      for (int k = 0; k < 3; ++k) {
-        o.f[k] = out.f[k];
-        o.ti[k] = out.ti[k];
-        o.tj[k] = out.tj[k];
+      bond_law_lanes<Lanes4>(xi, xj, vi, vj, wi, wj, ri, rj, imi, imj, iIi, iIj, kn, kt, A, J, rb, zeta, damped, dt,
+                             fn, ft, tn, tt, sigma, tau, f, ti, tj);
+      const long nl = std::min<long>(4, be - b0);
+      for (long l = 0; l < nl; ++l) {
+        Bond& bd = B[b0 + l];
+        BondOutSlot& o = O[b0 + l];
+        const int code = bd.alive ? bond_break_code(bd, sigma[l], tau[l]) : 0;
+        C[b0 + l] = static_cast<uint8_t>(code);
+        if (!bd.alive || code) {  // no force; a breaking bond keeps its spring state
+          for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
+          broken += code != 0;
+          continue;
+        }
+        bd.fn = fn[l];
+        bd.tn = tn[l];
+        for (int k = 0; k < 3; ++k) {
+          bd.ft[k] = ft[k][l];
+          bd.tt[k] = tt[k][l];
+          o.f[k] = f[k][l];
+          o.ti[k] = ti[k][l];
+          o.tj[k] = tj[k][l];
+        }
       }
-      C[b] = static_cast<uint8_t>(code);
-      broken += code != 0;
     }
     nbr[th] = broken;
   });
@@ -687,10 +711,23 @@ void World::bond_forces() {
   for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
     if (!bcode_[b]) continue;
     Bond& bd = bonds_[b];
-    // a breaking bond kept its spring state: the same update again gives its stresses
-    Bond scratch = bd;
-    BondOut out;
-    update(scratch, out);
+    // a breaking bond kept its spring state: the same evaluation again gives its stresses
+    Lanes4 xi[3], xj[3], vi[3], vj[3], wi[3], wj[3], fn, ft[3], tn, tt[3], sigma, tau, f[3], ti[3], tj[3];
+    const uint32_t i = bd.i, j = bd.j;
+    const double* ps[9] = {P.x.data(), P.y.data(), P.z.data(), P.vx.data(), P.vy.data(), P.vz.data(),
+                           P.wx.data(), P.wy.data(), P.wz.data()};
+    for (int k = 0; k < 3; ++k) {
+      xi[k] = Lanes4{} + ps[k][i]; xj[k] = Lanes4{} + ps[k][j];
+      vi[k] = Lanes4{} + ps[3 + k][i]; vj[k] = Lanes4{} + ps[3 + k][j];
+      wi[k] = Lanes4{} + ps[6 + k][i]; wj[k] = Lanes4{} + ps[6 + k][j];
+      ft[k] = Lanes4{} + bd.ft[k]; tt[k] = Lanes4{} + bd.tt[k];
+    }
+    fn = Lanes4{} + bd.fn;
+    tn = Lanes4{} + bd.tn;
+    const Lanes4 o = Lanes4{};
+    bond_law_lanes<Lanes4>(xi, xj, vi, vj, wi, wj, o + P.r[i], o + P.r[j], o + P.inv_m[i], o + P.inv_m[j],
+                           o + P.inv_I[i], o + P.inv_I[j], o + bd.kn, o + bd.kt, o + bd.A, o + bd.J, o + bd.rb,
+                           o + bd.damping, damped, dt, fn, ft, tn, tt, sigma, tau, f, ti, tj);
     bd.alive = 0;
     BondBreak e;
     e.t = t_;  // already the end of this step
@@ -701,8 +738,8 @@ void World::bond_forces() {
     e.id_i = p_.id[bd.i];
     e.id_j = p_.id[bd.j];
     e.tensile = bcode_[b] == 1;
-    e.sigma = out.sigma;
-    e.tau = out.tau;
+    e.sigma = sigma[0];
+    e.tau = tau[0];
     breaks_.push_back(e);
   }
   // the broken pairs take part in Hertz-Mindlin contact from the next step on

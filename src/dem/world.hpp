@@ -175,6 +175,7 @@ class World {
   // bonds
   std::vector<Bond> bonds_;
   SVec<BondOutSlot> bout_;
+  bool bonds_damped_ = false;  // some bond has damping > 0
   SVec<uint8_t> bcode_;  // per bond, last step: 0 intact, 1 broke in tension, 2 in shear
   SVec<uint32_t> bstart_, bref_;  // per particle: refs 2 * bond + (0: i side, 1: j side)
   std::vector<BondBreak> breaks_;
