@@ -1,46 +1,91 @@
 #!/usr/bin/env python3
-"""Screenshot of the X display and a check of its pixels: the rviz view must show the liners (the mantle's
-orange-brown, the translucent blue-grey concave) and the particles (saturated fragment colours), not just the
-empty grid on a dark background. Usage: check_screenshot.py DISPLAY OUT.png"""
-import colorsys
+"""What a user sees in rviz: the liners (the mantle's lit orange-brown, the translucent blue-grey concave) and,
+within the chamber they outline, the particles (fragment colours, saturation 0.75). A view with liners but
+no particles, particles away from the liners, or nothing at all fails.
+Usage: check_screenshot.py DISPLAY OUT.png    (grabs the X display, saves it, checks it)
+       check_screenshot.py --image IN.png     (checks a saved picture)"""
 import sys
 
-from PIL import ImageGrab
+import numpy as np
+from matplotlib.colors import rgb_to_hsv
+from PIL import Image
 
 
-def main(display, out):
-    img = ImageGrab.grab(xdisplay=display).convert("RGB")
-    img.save(out)
-    w, h = img.size
-    px = img.load()
-    mantle = particles = background = 0
-    hues = set()
-    for y in range(0, h, 2):
-        for x in range(0, w, 2):
-            r, g, b = px[x, y]
-            hh, ss, vv = colorsys.rgb_to_hsv(r / 255, g / 255, b / 255)
-            if abs(r - 48) < 6 and abs(g - 48) < 6 and abs(b - 48) < 6:
-                background += 1
-            elif r > g > b and 0.02 < hh < 0.13 and 0.3 < ss < 0.75 and vv > 0.25:
-                mantle += 1  # lit orange-brown of the mantle (0.75, 0.55, 0.3)
-            if ss > 0.55 and vv > 0.35:
-                particles += 1
-                hues.add(int(hh * 12))
-    total = (w // 2) * (h // 2)
-    print(f"screenshot {w}x{h}: background {background / total:.1%}, mantle-coloured {mantle / total:.2%}, "
-          f"saturated {particles / total:.2%} in {len(hues)} hue bands")
-    ok = True
-    if mantle < 0.005 * total:
-        print("FAIL: no liner visible")
-        ok = False
-    if particles < 0.001 * total or len(hues) < 3:
-        print("FAIL: no particles visible (too few saturated pixels in distinct fragment colours)")
-        ok = False
-    if background > 0.97 * total:
-        print("FAIL: the view is empty")
-        ok = False
-    sys.exit(0 if ok else 1)
+def render_view(a):
+    """The 3D view inside the rviz window: the rows and columns mostly of its background grey (48, 48, 48)."""
+    bg = np.abs(a - 48 / 255).max(axis=2) < 6 / 255
+    cols = np.nonzero(bg.mean(axis=0) > 0.25)[0]
+    rows = np.nonzero(bg.mean(axis=1) > 0.25)[0]
+    if len(cols) == 0 or len(rows) == 0:
+        return None
+    return a[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1], bg[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+
+
+def check(img):
+    a = np.asarray(img.convert("RGB"), dtype=float) / 255.0
+    view = render_view(a)
+    if view is None:
+        return ["no rviz 3D view (no area of its background grey)"]
+    v, bg = view
+    hsv = rgb_to_hsv(v)
+    h, s, val = hsv[..., 0], hsv[..., 1], hsv[..., 2]
+    r, g, b = v[..., 0], v[..., 1], v[..., 2]
+    # Fragment colours are 0.25 + 0.75 x a pure hue: saturation 0.75 however lit (the force-map spheres,
+    # blue to red with green 0.2, are more saturated; the mantle less).
+    particles = (s > 0.72) & (s < 0.78) & (val > 0.3)
+    mantle = (r > g) & (g > b) & (h > 0.02) & (h < 0.13) & (s > 0.3) & (s < 0.68) & (val > 0.25)
+    concave = (b > r + 0.02) & (h > 0.5) & (h < 0.72) & (s > 0.05) & (s < 0.4) & (val > 0.2)
+    liner = mantle | concave
+    total = v.shape[0] * v.shape[1]
+    n_p, n_m, n_c = int(particles.sum()), int(mantle.sum()), int(concave.sum())
+    print(f"3D view {v.shape[1]}x{v.shape[0]} px: background {bg.mean():.1%}, mantle {n_m / total:.2%}, "
+          f"concave {n_c / total:.2%}, particles {n_p / total:.2%}")
+    errors = []
+    if n_m < 0.005 * total:
+        errors.append("no mantle visible")
+    if n_p < 0.002 * total:
+        errors.append("no particles visible")
+    if errors:
+        return errors
+    # The chamber in the picture: the box around the liner pixels (1st to 99th percentile, so that a few
+    # stray pixels do not stretch it), enlarged by 5 %.
+    ys, xs = np.nonzero(liner)
+    x0, x1 = np.percentile(xs, [1, 99])
+    y0, y1 = np.percentile(ys, [1, 99])
+    mx, my = 0.05 * (x1 - x0), 0.05 * (y1 - y0)
+    py, px = np.nonzero(particles)
+    inside = (px >= x0 - mx) & (px <= x1 + mx) & (py >= y0 - my) & (py <= y1 + my)
+    cx, cy = px.mean(), py.mean()
+    counts = np.bincount((h[particles] * 12).astype(int) % 12, minlength=12)
+    bands = int((counts >= 20).sum())
+    print(f"liners span x {x0:.0f}-{x1:.0f}, y {y0:.0f}-{y1:.0f} px; {inside.mean():.1%} of particle pixels within, "
+          f"their centre at ({cx:.0f}, {cy:.0f}); {bands} hue bands")
+    if inside.mean() < 0.9:
+        errors.append(f"only {inside.mean():.0%} of the particle pixels lie within the liners (need 90 %)")
+    # Rock fills the annulus around the mantle: the particles' centre is near the chamber's axis in the picture.
+    if not (x0 + 0.25 * (x1 - x0) <= cx <= x1 - 0.25 * (x1 - x0) and y0 <= cy <= y1):
+        errors.append("the particles are not centred on the chamber")
+    if bands < 3:
+        errors.append(f"particles in {bands} hue bands (fragments show >= 3)")
+    return errors
+
+
+def main(argv):
+    if len(argv) == 3 and argv[1] == "--image":
+        img = Image.open(argv[2])
+    elif len(argv) == 3:
+        from PIL import ImageGrab
+        img = ImageGrab.grab(xdisplay=argv[1])
+        img.save(argv[2])
+    else:
+        sys.exit(__doc__)
+    errors = check(img)
+    for e in errors:
+        print("FAIL:", e)
+    if not errors:
+        print("screenshot: particles within the chamber outlined by the liners")
+    sys.exit(1 if errors else 0)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    main(sys.argv)

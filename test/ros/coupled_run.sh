@@ -3,8 +3,9 @@
 # lockstep over ROS topics (dem_node first, then mbd_node: either may start first), then
 #  1. dem.bag is merged into run.bag (merge_bags, as scripts/crusher run does) and check_coupled_run.py asserts
 #     on it (every topic of both nodes, no step missing or duplicated, wrenches, mass balance, PSD);
-#  2. rviz with rviz/crusher.rviz under Xvfb, fed by the merged run.bag, is screenshot and the picture's
-#     pixels must show the particles and the liners.
+#  2. rviz with rviz/crusher.rviz under Xvfb, fed by the merged run.bag, is screenshot; check_screenshot.py
+#     finds the liners' pixels in the 3D view and requires particle-coloured pixels within the chamber they
+#     outline, centred on it, in several fragment colours.
 source "$(dirname "$0")/ros_env.bash"
 export OMP_WAIT_POLICY=passive
 
