@@ -46,9 +46,12 @@ inline Lanes4 sqrt(Lanes4 x) {
 inline Lanes4 abs(Lanes4 x) { return x < 0.0 ? -x : x; }
 template <class M>
 inline Lanes4 select(M c, Lanes4 a, Lanes4 b) { return c ? a : b; }
+inline bool any(bool c) { return c; }
+template <class M>
+inline bool any(const M& c) { return (c[0] | c[1] | c[2] | c[3]) != 0; }
 }  // namespace lanes
 
-// Eq. 16-19 + CDT rolling friction, branch-free (the same arithmetic in every lane). Pair properties as
+// Eq. 16-19 + CDT rolling friction, the same arithmetic in every lane (one branch: any lane sliding). Pair properties as
 // arguments; sqrt_kt_kn = sqrt(4 G*/E*). Outputs: fn (signed normal force), f (total), ft, troll.
 template <class T>
 inline void hertz_mindlin_lanes(const T& delta, const T n[3], const T vrel[3], const T wrel[3], const T& r_eff,
@@ -82,13 +85,15 @@ inline void hertz_mindlin_lanes(const T& delta, const T n[3], const T vrel[3], c
   const T ft_mag2 = ft0 * ft0 + ft1 * ft1 + ft2 * ft2;
   const T fmax = friction * abs(fn);
   const auto capped = ft_mag2 > fmax * fmax;
-  const T s = select(capped, fmax / sqrt(ft_mag2), one);
-  ft0 *= s; ft1 *= s; ft2 *= s;
-  const auto reset = capped & (kt > 0.0);
-  const T ik = one / kt;
-  h0 = select(reset, -(ft0 + ct * vt0) * ik, h0);
-  h1 = select(reset, -(ft1 + ct * vt1) * ik, h1);
-  h2 = select(reset, -(ft2 + ct * vt2) * ik, h2);
+  if (lanes::any(capped)) {  // sliding in some lane
+    const T s = select(capped, fmax / sqrt(ft_mag2), one);
+    ft0 *= s; ft1 *= s; ft2 *= s;
+    const auto reset = capped & (kt > 0.0);
+    const T ik = one / kt;
+    h0 = select(reset, -(ft0 + ct * vt0) * ik, h0);
+    h1 = select(reset, -(ft1 + ct * vt1) * ik, h1);
+    h2 = select(reset, -(ft2 + ct * vt2) * ik, h2);
+  }
   hist[0] = h0; hist[1] = h1; hist[2] = h2;
   fn_out = fn;
   ft[0] = ft0; ft[1] = ft1; ft[2] = ft2;
