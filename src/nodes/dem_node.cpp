@@ -1,6 +1,6 @@
 // dem_node: the ore as a bonded-particle DEM (coupling::ChamberDem) as a ROS node, the follower of the
 // lockstep coupling. Parameters: ~config (path, required), ~out (dir for dem.bag and breaks.csv; scripts/crusher
-// run merges dem.bag into mbd_node's run.bag with merge_bags).
+// run merges dem.bag into mbd_node's run.bag with merge_bags), ~duration (s, overrides run.duration_s).
 // Answers each /crusher/geometry_state with the time-averaged liner wrench for the same step, and publishes
 // particles, liners, the concave force map and the screened product at run.tf_hz of sim time.
 #include <inertia_crusher/ConcaveForceMap.h>
@@ -372,6 +372,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   const std::string config_path = nodes::param_or(pnh, "config", std::string());
   const std::string out = nodes::param_or(pnh, "out", std::string());
+  const double duration = nodes::param_or(pnh, "duration", -1.0);  // s; as mbd_node's, for progress and ETA
   if (config_path.empty()) {
     std::fprintf(stderr, "dem_node: parameter ~config is missing; usage: rosrun inertia_crusher dem_node "
                          "_config:=launch_free_configs/quick_demo.yaml [_out:=DIR]\n");
@@ -384,6 +385,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dem_node: %s\n", e.what());
     return 2;
   }
+  if (duration > 0) cfg.run.duration_s = duration;
   if (!out.empty()) ::mkdir(out.c_str(), 0755);
   try {
     DemNode node(nh, std::move(cfg), out);
