@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include <algorithm>
@@ -526,6 +527,8 @@ void World::pair_forces() {
     const uint32_t* SS = sstart_.data();
     std::array<double, 3>* H = hist_.data();
     uint8_t* TC = touch_.data();
+    int last_pidx = -1;
+    Lanes4 E{}, G{}, be{}, skk{}, fr{}, mur{};
     char seen = 0;
     for (uint32_t k = SS[s]; k < SS[s + 1]; ++k) {
       const uint32_t i = SO[k];
@@ -539,41 +542,65 @@ void World::pair_forces() {
       // or not is close to random in a dense packing: no mispredicted branch per pair)
       for (uint32_t q0 = qb; q0 < qe; q0 += kBlock) {
         const uint32_t q1 = std::min(qe, q0 + kBlock);
-        uint32_t tq[kBlock];
-        double td2[kBlock];
+        uint32_t tq[kBlock + 4];
+        alignas(32) double td2[kBlock + 4], tdx[kBlock + 4], tdy[kBlock + 4], tdz[kBlock + 4], trj[kBlock + 4];
         uint32_t nb = 0;
         for (uint32_t q = q0; q < q1; ++q) {
           const uint32_t j = PJ[q];
           const double dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
-          const double rs = ri + r[j];
+          const double rj = r[j], rs = ri + rj;
           const double d2 = dx * dx + dy * dy + dz * dz;
           const uint8_t now = d2 < rs * rs, before = TC[q];
           TC[q] = now;
           tq[nb] = q;
-          td2[nb] = d2;
+          td2[nb] = d2; tdx[nb] = dx; tdy[nb] = dy; tdz[nb] = dz; trj[nb] = rj;
           nb += now;
           if (before > now) H[q][0] = H[q][1] = H[q][2] = 0.0;  // separated: history reset
         }
-      // touching pairs 4 at a time (Lanes4; a short last group repeats its first pair in the spare lanes,
-      // whose results are dropped)
+        if (nb == 0) continue;
+        // touching pairs 4 at a time (Lanes4); spare lanes of the last group repeat the first pair, their
+        // results are dropped
+        for (uint32_t k = nb; k % 4; ++k) {
+          tq[k] = tq[0];
+          td2[k] = td2[0]; tdx[k] = tdx[0]; tdy[k] = tdy[0]; tdz[k] = tdz[0]; trj[k] = trj[0];
+        }
       for (uint32_t k0 = 0; k0 < nb; k0 += 4) {
         uint32_t qs[4], js[4];
         Lanes4 dx, dy, dz, d2, rj, imj, vxj, vyj, vzj, wxj, wyj, wzj, hx, hy, hz;
-        Lanes4 E, G, be, skk, fr, mur;
+        std::memcpy(&dx, tdx + k0, sizeof dx);
+        std::memcpy(&dy, tdy + k0, sizeof dy);
+        std::memcpy(&dz, tdz + k0, sizeof dz);
+        std::memcpy(&d2, td2 + k0, sizeof d2);
+        std::memcpy(&rj, trj + k0, sizeof rj);
+        int pidx[4];
         for (int l = 0; l < 4; ++l) {
-          const uint32_t k = k0 + l < nb ? k0 + l : k0;
-          const uint32_t q = tq[k], j = PJ[q];
+          const uint32_t q = tq[k0 + l], j = PJ[q];
           qs[l] = q;
           js[l] = j;
-          dx[l] = xi - x[j]; dy[l] = yi - y[j]; dz[l] = zi - z[j];
-          d2[l] = td2[k];
-          rj[l] = r[j]; imj[l] = im[j];
+          imj[l] = im[j];
           vxj[l] = vx[j]; vyj[l] = vy[j]; vzj[l] = vz[j];
           wxj[l] = wx[j]; wyj[l] = wy[j]; wzj[l] = wz[j];
           hx[l] = H[q][0]; hy[l] = H[q][1]; hz[l] = H[q][2];
-          const PairProps& pp = PP[mati * nm + mat[j]];
-          E[l] = pp.E_star; G[l] = pp.G_star; be[l] = pp.beta; fr[l] = pp.friction; mur[l] = pp.rolling_friction;
-          skk[l] = pp.sqrt_kt_kn > 0 ? pp.sqrt_kt_kn : std::sqrt(4.0 * pp.G_star / pp.E_star);
+          pidx[l] = mati * nm + mat[j];
+        }
+        // pair properties: broadcast when the 4 lanes share a material pair (kept from the last group)
+        if (pidx[0] == pidx[1] && pidx[0] == pidx[2] && pidx[0] == pidx[3]) {
+          if (pidx[0] != last_pidx) {
+            const PairProps& pp = PP[pidx[0]];
+            const Lanes4 o{};
+            E = o + pp.E_star; G = o + pp.G_star; be = o + pp.beta; fr = o + pp.friction;
+            mur = o + pp.rolling_friction;
+            skk = o + (pp.sqrt_kt_kn > 0 ? pp.sqrt_kt_kn : std::sqrt(4.0 * pp.G_star / pp.E_star));
+            last_pidx = pidx[0];
+          }
+        } else {
+          for (int l = 0; l < 4; ++l) {
+            const PairProps& pp = PP[pidx[l]];
+            E[l] = pp.E_star; G[l] = pp.G_star; be[l] = pp.beta; fr[l] = pp.friction;
+            mur[l] = pp.rolling_friction;
+            skk[l] = pp.sqrt_kt_kn > 0 ? pp.sqrt_kt_kn : std::sqrt(4.0 * pp.G_star / pp.E_star);
+          }
+          last_pidx = -1;
         }
         const Lanes4 rs = ri + rj;
         const Lanes4 d = lanes::sqrt(d2), id = 1.0 / d, irs = 1.0 / rs;
