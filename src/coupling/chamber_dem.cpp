@@ -226,6 +226,13 @@ void ChamberDem::add_rock(int shape, const Eigen::Vector3d& centre, const Eigen:
   fed_kg_ += rock_mass_[shape];
 }
 
+void ChamberDem::add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity) {
+  if (shape < 0 || shape >= rock_shapes())
+    throw std::invalid_argument("ChamberDem::add_rock_at: shape " + std::to_string(shape) + " not in [0, " +
+                                std::to_string(rock_shapes()) + ")");
+  add_rock(shape, centre, Eigen::Quaterniond::Identity(), velocity);
+}
+
 Eigen::Quaterniond ChamberDem::random_orientation() {
   Eigen::Quaterniond q(rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5, rng_.uniform() - 0.5);
   return q.normalized();
@@ -324,7 +331,9 @@ void ChamberDem::feed() {
   }
 }
 
-// Fragments whose centre has fallen below the chamber are screened and removed (section 4.1.3).
+// Fragments whose centre has fallen below the chamber are screened and removed (section 4.1.3). Fragments
+// outside the concave and hopper (spilled over the rim or thrown out) or far away are removed as lost:
+// they never passed the discharge, so they are not product.
 void ChamberDem::discharge() {
   const auto& P = world_->particles();
   if (P.size() == 0) return;
@@ -334,7 +343,9 @@ void ChamberDem::discharge() {
   std::vector<uint64_t> remove;
   for (const auto& f : frags.info(P)) {
     const Eigen::Vector3d d = f.centre - concave_origin_;
-    const bool lost = std::hypot(d.x(), d.y()) > far || f.centre.z() < z_out - 5.0;
+    const double rho = std::hypot(d.x(), d.y());
+    const bool outside = d.z() > outer_.z.front() && d.z() < outer_.z.back() && rho > outer_.radius_at(d.z()) + 1e-3;
+    const bool lost = outside || rho > far || f.centre.z() < z_out - 5.0;
     if (f.centre.z() >= z_out && !lost) continue;
     for (uint64_t id : frags.members(f.label)) remove.push_back(id);
     if (lost) {

@@ -78,6 +78,8 @@ class ChamberDem {
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
+  // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
+  void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
 
  private:
   void set_liners(const BodyMotion& m, const BodyMotion& c, double tau);

@@ -208,6 +208,7 @@ class DemNode {
     ps.mass_discharged_kg = p.discharged_kg;
     ps.mass_fed_kg = p.fed_kg;
     ps.mass_in_chamber_kg = p.in_chamber_kg;
+    ps.mass_lost_kg = p.lost_kg;
     pub_product_.publish(ps);
     bag_.write("/crusher/product", stamp, ps);
     // Concave force map (mean over the window since the last output).

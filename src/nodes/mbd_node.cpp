@@ -181,6 +181,7 @@ class MbdNode {
     analysis::ProductSummary s;
     s.throughput_tph = p->throughput_tph;
     s.mass_discharged_kg = p->mass_discharged_kg;
+    s.mass_lost_kg = p->mass_lost_kg;
     s.sieve_mm = p->sieve_mm;
     s.passing_pct = p->passing_pct;
     product_ = s;

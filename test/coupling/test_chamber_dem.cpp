@@ -164,3 +164,24 @@ TEST(ChamberDem, PrefillPlacesRocksBetweenTheLinersWithoutOverlap) {
   }
   EXPECT_LT(f.z(), -0.5 * 9.81 * s.fed_kg);
 }
+
+// Rock that leaves outside the concave (spilled or thrown out) is lost, not product; rock below the
+// discharge inside the concave's bottom edge is screened as product.
+TEST(ChamberDem, SpillOutsideTheConcaveIsLostNotProduct) {
+  auto p = small_chamber();
+  p.feed.max_fed_kg = 1e-9;  // no feed beyond at most one rock
+  coupling::ChamberDem dem(p);
+  const auto m = at_rest(p.mantle_com_z_m), c = at_rest(p.concave_com_z_m);
+  dem.advance(m, c, 1e-3);
+  const auto s0 = dem.product();
+  const double rock = dem.rock_mass_kg(0);
+  dem.add_rock_at(0, Eigen::Vector3d(0.25, 0, -0.10), Eigen::Vector3d::Zero());    // beside the concave, r 0.12 m there
+  dem.add_rock_at(0, Eigen::Vector3d(-0.16, 0, -0.28), Eigen::Vector3d::Zero());   // below the discharge, inside r 0.175
+  for (int k = 0; k < 10; ++k) dem.advance(m, c, 1e-3);
+  const auto s = dem.product();
+  EXPECT_NEAR(s.lost_kg - s0.lost_kg, rock, 1e-12);
+  EXPECT_NEAR(s.discharged_kg - s0.discharged_kg, rock, 1e-12);
+  EXPECT_NEAR(s.fed_kg - s0.fed_kg, 2 * rock, 1e-12);
+  EXPECT_NEAR(s.fed_kg, s.in_chamber_kg + s.discharged_kg + s.lost_kg, 1e-9 * s.fed_kg);
+  EXPECT_THROW(dem.add_rock_at(99, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()), std::invalid_argument);
+}

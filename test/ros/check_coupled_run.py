@@ -67,10 +67,12 @@ def main(out):
     fz = sum(m.mantle.force.z + m.concave.force.z for m in touching[-50:]) / len(touching[-50:])
     if not (fz < 0 and -fz < 3.0 * weight):
         fail(f"liners' vertical force {fz:.1f} N is not a plausible share of the rock weight {weight:.1f} N")
-    # Mass balance: fed = in chamber + discharged within 0.5 %.
-    bal = last.mass_in_chamber_kg + last.mass_discharged_kg
+    # Mass balance: fed = in chamber + discharged (+ lost: spilled or thrown out of the machine) within 0.5 %.
+    bal = last.mass_in_chamber_kg + last.mass_discharged_kg + last.mass_lost_kg
     if last.mass_fed_kg <= 0 or abs(last.mass_fed_kg - bal) > 0.005 * last.mass_fed_kg:
-        fail(f"mass balance: fed {last.mass_fed_kg:.4f} kg vs in chamber + discharged {bal:.4f} kg")
+        fail(f"mass balance: fed {last.mass_fed_kg:.4f} kg vs in chamber + discharged + lost {bal:.4f} kg")
+    if last.mass_lost_kg > 0.05 * last.mass_fed_kg:
+        fail(f"{last.mass_lost_kg:.3f} kg of {last.mass_fed_kg:.3f} kg left the machine outside the discharge")
     # Cumulative passing: monotone, ending at 100 % once something was discharged.
     p = list(last.passing_pct)
     if any(b < a for a, b in zip(p, p[1:])):
@@ -96,7 +98,7 @@ def main(out):
     if fm.rings != 13 or fm.sectors != 9 or len(fm.mean_normal_force) != 117:
         fail("concave force map is not 13 x 9")
     print(f"coupled run: {n} coupling steps, {len(touching)} with rock on the liners, fed {last.mass_fed_kg:.2f} kg, "
-          f"in chamber {last.mass_in_chamber_kg:.2f} kg, discharged {last.mass_discharged_kg:.2f} kg; "
+          f"in chamber {last.mass_in_chamber_kg:.2f} kg, discharged {last.mass_discharged_kg:.2f} kg, lost {last.mass_lost_kg:.3f} kg; "
           f"run.bag: {len(c_run)} topics, {sum(c_run.values())} messages; all checks passed")
 
 
