@@ -7,8 +7,9 @@
 // disjoint particles); bond forces go to per-bond slots gathered per particle in a fixed order.
 //
 // Step order: half kick (v += dt/2 F/m, w += dt/2 T/I) -> drift (x += dt v, walls move) -> neighbour list
-// rebuild if any particle moved more than skin/2 -> pair forces (+ gravity) -> bond forces (breaks logged)
-// -> gather and wall forces -> Interaction::add_forces -> half kick. Forces of a new particle are zero until
+// rebuild if any particle moved more than skin/2 -> pair forces (added to gravity) -> bond forces (breaks
+// logged) -> bond gather and wall forces -> Interaction::add_forces -> half kick. Blow-up checks (BlowUp) on
+// overlaps and non-finite states happen inside these loops. Forces of a new particle are zero until
 // its first step. Particles with fixed[i] = 1 keep their velocities (prescribed motion).
 #include <array>
 #include <cstddef>
