@@ -180,3 +180,37 @@ TEST(World, BadInputIsRejected) {
 }
 
 }  // namespace
+
+// A dense colliding cloud without gravity or walls on 3 threads (parallel slab blocks): every pair force is
+// applied to both partners exactly once, so linear momentum stays at its initial value up to rounding.
+TEST(World, ParallelPairForcesConserveMomentum) {
+  dem::WorldParams wp;
+  wp.dt = 1e-6;
+  wp.gravity = {{0, 0, 0}};
+  wp.threads = 3;
+  dem::World w(wp);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(0, 1);
+  for (int k = 0; k < 3000; ++k) {  // 15 x 15 x 13.3 lattice of 2 mm spacing, radii up to 1.05 mm: touching
+    const double x[3] = {0.002 * (k % 15), 0.002 * ((k / 15) % 15), 0.002 * (k / 225)};
+    const double v[3] = {U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5};
+    w.add_particle(x, 0.9e-3 + 0.15e-3 * U(rng), 0, v);
+  }
+  auto momentum = [&w](double out[3]) {
+    const auto& p = w.particles();
+    double scale = 0;
+    out[0] = out[1] = out[2] = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      out[0] += p.m[i] * p.vx[i]; out[1] += p.m[i] * p.vy[i]; out[2] += p.m[i] * p.vz[i];
+      scale += p.m[i] * std::sqrt(p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+    }
+    return scale;
+  };
+  double p0[3], p1[3];
+  const double scale = momentum(p0);
+  w.step(1);
+  EXPECT_GT(w.n_contacts(), 1000u);
+  w.step(1500);
+  momentum(p1);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(p1[a], p0[a], 1e-12 * scale) << a;
+}
