@@ -27,8 +27,8 @@ MeanStd cycle_mean(const std::vector<double>& t, const std::vector<double>& v, d
 struct ProductSummary {  // from the DEM, when particles are attached
   double throughput_tph = 0;
   double mass_discharged_kg = 0;
-  double mass_lost_kg = 0;  // spilled or thrown out of the machine (not product)
   std::vector<double> sieve_mm, passing_pct;
+  double mass_lost_kg = 0;  // spilled or thrown out of the machine (not product)
 };
 
 struct RunSummary {

@@ -53,11 +53,12 @@ TEST(RunMetrics, JsonHasContractFieldsAndNullsWithoutParticles) {
                           "specific_energy_kWh_per_t", "psd", "simulated_s", "wall_s"})
     EXPECT_NE(j.find(std::string("\"") + key + "\""), std::string::npos) << key;
   EXPECT_NE(j.find("\"psd\": null"), std::string::npos);
-  s.product = analysis::ProductSummary{80.0, 10.0, {1, 12}, {2.0, 85.0}};
+  s.product = analysis::ProductSummary{80.0, 10.0, {1, 12}, {2.0, 85.0}, 0.25};
   s.power_kW.mean = 76.0;
   j = analysis::to_json(s);
   EXPECT_NE(j.find("\"specific_energy_kWh_per_t\": 0.95"), std::string::npos) << j;
   EXPECT_NE(j.find("\"sieve_mm\": [1, 12]"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"mass_lost_kg\": 0.25"), std::string::npos) << j;
 }
 
 TEST(RunMetrics, RejectsNonPositiveSpeed) {
