@@ -12,6 +12,7 @@ struct RunOptions {
   double publish_hz = 500;    // test point and drive samples (every one goes to the bag)
   double tf_hz = 50;          // tf and liner markers
   double settle_s = 1.0;      // start-up transient excluded from summary.json
+  double warm_start_s = 0.0;  // mechanism alone (idle for dem runs) before t = 0: starts at speed, frame settled
 };
 
 struct CouplingOptions {

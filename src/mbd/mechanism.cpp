@@ -75,6 +75,7 @@ struct Mechanism::Impl {
            o6 = nullptr, o7 = nullptr;
   dJointFeedback o7_feedback{};
   double t = 0;
+  double t_before = 0;  // time run before the clock was set back to 0 (warm start)
   long steps = 0;
   // rest references
   Eigen::Vector3d b1_rest;            // fixed cone COM at rest
@@ -348,7 +349,7 @@ void Mechanism::Impl::apply_and_step() {
   }
 
   // ---- drive: ramp to the set speed, optional droop with the last torque ----
-  const double ramp = p.drive_ramp_s > 0 ? std::min(1.0, (t + dt) / p.drive_ramp_s) : 1.0;
+  const double ramp = p.drive_ramp_s > 0 ? std::min(1.0, (t_before + t + dt) / p.drive_ramp_s) : 1.0;
   const double smooth = ramp * ramp * (3.0 - 2.0 * ramp);
   double w_cmd = p.drive_speed_rad_s * smooth;
   double droop_torque = 0;
@@ -454,6 +455,14 @@ void Mechanism::step() { impl_->apply_and_step(); }
 void Mechanism::advance(double s) {
   const long n = std::lround(s / impl_->p.dt_s);
   for (long i = 0; i < n; ++i) impl_->apply_and_step();
+}
+void Mechanism::warm_start(double s, LoadModel during) {
+  const LoadModel keep = impl_->load;
+  impl_->load = during;
+  advance(s);
+  impl_->load = keep;
+  impl_->t_before += impl_->t;
+  impl_->t = 0;
 }
 double Mechanism::time() const { return impl_->t; }
 double Mechanism::dt() const { return impl_->p.dt_s; }

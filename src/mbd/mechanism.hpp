@@ -79,6 +79,9 @@ class Mechanism {
 
   void step();              // one time step dt
   void advance(double s);   // whole steps covering s seconds
+  // Runs s seconds with the load `during`, then sets the clock back to 0 (the drive stays at speed, the ramp
+  // is not repeated): the same trajectory as a run from rest, s seconds later. Keeps the load model.
+  void warm_start(double s, LoadModel during);
   double time() const;
   double dt() const;
   const MechanismParams& params() const;

@@ -65,6 +65,10 @@ class MbdNode {
     // In `dem` mode the particles are the load; `bed` is the equivalent material-bed model; `none` idles.
     mech_ = std::make_unique<mbd::Mechanism>(cfg_.mech, cfg_.run.load == "bed" ? mbd::LoadModel::Bed
                                                                                 : mbd::LoadModel::None);
+    if (cfg_.run.warm_start_s > 0) {  // before any topic: the run's clock starts after it
+      mech_->warm_start(cfg_.run.warm_start_s, cfg_.run.load == "bed" ? mbd::LoadModel::Bed : mbd::LoadModel::None);
+      ROS_INFO("mbd_node: warm start, %.2f s of the mechanism alone before t = 0", cfg_.run.warm_start_s);
+    }
     pub_clock_ = nh.advertise<rosgraph_msgs::Clock>("/clock", 10);
     pub_tp_ = nh.advertise<inertia_crusher::TestPoint>("/crusher/test_point", 1000);
     pub_drive_ = nh.advertise<inertia_crusher::DriveState>("/crusher/drive", 1000);

@@ -44,7 +44,8 @@ rosparam set /use_sim_time false
 rviz -d "$src/rviz/crusher.rviz" >"$out/rviz.log" 2>&1 &
 pids+=($!)
 sleep 8
-rosbag play -q -l "$out/run/run.bag" --topics /crusher/particles /crusher/liners /crusher/concave_force_markers \
+# Looped from 0.3 s on: the chamber fills during the first 0.1-0.2 s, and a screenshot taken then sees few particles.
+rosbag play -q -l -s 0.3 "$out/run/run.bag" --topics /crusher/particles /crusher/liners /crusher/concave_force_markers \
   >"$out/play.log" 2>&1 &
 pids+=($!)
 sleep 10
