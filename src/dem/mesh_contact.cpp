@@ -240,7 +240,11 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   const int nreg = regions_ ? regions_->num_regions() : 0;
   region_normal_.assign(nreg, 0.0);
   region_force_.assign(nreg, Eigen::Vector3d::Zero());
+  worst_ratio_ = 0.0;
+  worst_index_ = -1;
   for (const auto& rec : contacts_) {
+    const double ratio = rec.overlap / p.r[rec.particle_index];
+    if (ratio > worst_ratio_) worst_ratio_ = ratio, worst_index_ = rec.particle_index;
     force_ -= rec.force;
     torque_origin_ -= rec.point.cross(rec.force) + rec.roll_torque;
     total_normal_ += rec.normal_force;

@@ -87,6 +87,8 @@ class MeshContact : public Interaction {
   MeshWrench wrench_about(const Eigen::Vector3d& point) const;
   // Sum over contacts of the normal force magnitude on the mesh (N).
   double total_normal_force() const { return total_normal_; }
+  std::pair<double, long> worst_overlap() const override { return {worst_ratio_, worst_index_}; }
+  std::string label() const override { return "mesh '" + mesh_.name() + "'"; }
   // Per region: summed normal force (N) and summed force vector on the mesh (N); empty without a map.
   const std::vector<double>& region_normal_force() const { return region_normal_; }
   const std::vector<Eigen::Vector3d>& region_force() const { return region_force_; }
@@ -118,6 +120,8 @@ class MeshContact : public Interaction {
   Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d torque_origin_ = Eigen::Vector3d::Zero();  // about the world origin
   double total_normal_ = 0.0;
+  double worst_ratio_ = 0.0;  // largest overlap / radius of the last step (first such contact in particle order)
+  long worst_index_ = -1;
   std::vector<double> region_normal_;
   std::vector<Eigen::Vector3d> region_force_;
 };

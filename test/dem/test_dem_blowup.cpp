@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include "dem/mesh_contact.hpp"
 #include "dem/world.hpp"
 
 namespace {
@@ -168,6 +169,38 @@ TEST(BlowUp, ParallelPairLoopNamesTheOffendingParticle) {
     EXPECT_EQ(e.id, 1233u) << e.what();
     EXPECT_TRUE(has(e.what(), "overlap with particle id 1234 is 0.8")) << e.what();
   }
+}
+
+TEST(BlowUp, OverlapWithAMeshStopsAndNamesTheMesh) {
+  const std::string dump = fresh_dump("mesh");
+  dem::World w(params(dump));
+  const double r = 1e-3;
+  auto floor = std::make_shared<dem::MeshContact>(
+      dem::TriMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}, "floor"),
+      w.materials(), 1);
+  w.add_interaction(floor);
+  const double ok[3] = {0.01, 0, 0.8 * r}, deep[3] = {0, 0, 0.3 * r};  // overlaps 0.2 r and 0.7 r
+  w.add_particle(ok, r, 0);
+  w.add_particle(deep, r, 0);
+  try {
+    w.step(1);
+    FAIL() << "no BlowUp";
+  } catch (const dem::BlowUp& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(e.id, 1u);
+    EXPECT_NEAR(e.overlap, 0.7, 1e-6);
+    EXPECT_TRUE(has(m, "overlap with mesh 'floor' is 0.7")) << m;
+    EXPECT_EQ(lines(dump).size(), 3u);  // header + 2 particles
+  }
+  // Below the bound the same contact runs.
+  dem::WorldParams wp = params(fresh_dump("mesh_ok"));
+  wp.max_overlap_fraction = 0.8;
+  dem::World w2(wp);
+  w2.add_interaction(std::make_shared<dem::MeshContact>(
+      dem::TriMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}, "floor"),
+      w2.materials(), 1));
+  w2.add_particle(deep, r, 0);
+  EXPECT_NO_THROW(w2.step(1));
 }
 
 }  // namespace
