@@ -1041,10 +1041,10 @@ void World::step(long nsteps) {
       for (auto& ia : interactions_) {
         ia->add_forces(p_, t_, prm_.dt);
         const auto [ov, i] = ia->worst_overlap();
-        if (prm_.max_overlap_fraction > 0 && ov > prm_.max_overlap_fraction && i >= 0)
+        if (prm_.max_mesh_overlap_fraction > 0 && ov > prm_.max_mesh_overlap_fraction && i >= 0)
           blow_up(i, ov, "overlap with " + ia->label() + " is " + std::to_string(ov) +
-                             " of the radius (bound max_overlap_fraction = " +
-                             std::to_string(prm_.max_overlap_fraction) + ")");
+                             " of the radius (bound max_mesh_overlap_fraction = " +
+                             std::to_string(prm_.max_mesh_overlap_fraction) + ")");
       }
       lap(5);
       const double hdt = 0.5 * prm_.dt;

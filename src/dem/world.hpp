@@ -41,6 +41,10 @@ struct WorldParams {
   // Blow-up detection: step() throws BlowUp when a position or velocity is non-finite or a contact overlap
   // (particle-particle or planar wall) exceeds this fraction of the smaller radius (<= 0: no overlap check).
   double max_overlap_fraction = 0.5;
+  // The same for mesh contacts (Interaction::worst_overlap). 1: the centre has reached the surface. Looser than
+  // between particles: rigid liners driven from outside squeeze coarse spheres larger than the gap (the quick
+  // demo's 15 mm spheres reach 0.5 r at a ~10 mm setting) without the integration failing.
+  double max_mesh_overlap_fraction = 1.0;
   // CSV state dump written before BlowUp is thrown; empty: <temp dir>/dem_blowup_<pid>.csv
   std::string blowup_dump_path;
 };
