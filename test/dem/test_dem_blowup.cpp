@@ -39,27 +39,34 @@ std::vector<std::string> lines(const std::string& path) {
 
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
+// Steps w until it throws BlowUp and returns that; a run without one fails the test (empty BlowUp returned).
+dem::BlowUp blow_up_of(dem::World& w, long steps) {
+  try {
+    w.step(steps);
+  } catch (const dem::BlowUp& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no BlowUp in " << steps << " steps";
+  return dem::BlowUp("no BlowUp", -1, 0, 0.0, "");
+}
+
 TEST(BlowUp, OverlapBeyondTheBoundStopsWithStepParticleAndDump) {
   const std::string dump = fresh_dump("overlap");
   dem::World w(params(dump));
   const double r = 1e-3, a[3] = {0, 0, 0}, b[3] = {1.1 * r, 0, 0};  // overlap 0.9 r
   w.add_particle(a, r, 0);
   w.add_particle(b, r, 0);
-  try {
-    w.step(5);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(e.step, 1);
-    EXPECT_EQ(e.id, 0u);
-    EXPECT_NEAR(e.overlap, 0.9, 1e-9);
-    EXPECT_EQ(e.dump_path, dump);
-    EXPECT_TRUE(has(m, "step 1")) << m;
-    EXPECT_TRUE(has(m, "particle id 0")) << m;
-    EXPECT_TRUE(has(m, "overlap with particle id 1 is 0.9")) << m;
-    EXPECT_TRUE(has(m, "max_overlap_fraction")) << m;
-    EXPECT_TRUE(has(m, dump)) << m;
-  }
+  const dem::BlowUp e = blow_up_of(w, 5);
+  const std::string m = e.what();
+  EXPECT_EQ(e.step, 1);
+  EXPECT_EQ(e.id, 0u);
+  EXPECT_NEAR(e.overlap, 0.9, 1e-9);
+  EXPECT_EQ(e.dump_path, dump);
+  EXPECT_TRUE(has(m, "step 1")) << m;
+  EXPECT_TRUE(has(m, "particle id 0")) << m;
+  EXPECT_TRUE(has(m, "overlap with particle id 1 is 0.9")) << m;
+  EXPECT_TRUE(has(m, "max_overlap_fraction")) << m;
+  EXPECT_TRUE(has(m, dump)) << m;
   const auto L = lines(dump);
   ASSERT_EQ(L.size(), 3u);
   EXPECT_EQ(L[0].rfind("id,x,y,z,vx,vy,vz,", 0), 0u) << L[0];
@@ -91,18 +98,14 @@ TEST(BlowUp, NanVelocityStopsWithTheParticle) {
   }
   w.step(10);
   w.particles().vy[1] = std::numeric_limits<double>::quiet_NaN();
-  try {
-    w.step(5);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(e.step, 11);
-    EXPECT_EQ(e.id, 1u);
-    EXPECT_TRUE(std::isnan(e.overlap));
-    EXPECT_TRUE(has(m, "step 11")) << m;
-    EXPECT_TRUE(has(m, "particle id 1")) << m;
-    EXPECT_TRUE(has(m, "non-finite")) << m;
-  }
+  const dem::BlowUp e = blow_up_of(w, 5);
+  const std::string m = e.what();
+  EXPECT_EQ(e.step, 11);
+  EXPECT_EQ(e.id, 1u);
+  EXPECT_TRUE(std::isnan(e.overlap));
+  EXPECT_TRUE(has(m, "step 11")) << m;
+  EXPECT_TRUE(has(m, "particle id 1")) << m;
+  EXPECT_TRUE(has(m, "non-finite")) << m;
   const auto L = lines(dump);
   ASSERT_EQ(L.size(), 4u);
   EXPECT_TRUE(has(L[2], "nan")) << L[2];
@@ -125,14 +128,10 @@ TEST(BlowUp, InfiniteForceIsCaughtAtTheEndOfTheStep) {
     w.add_particle(x, r, 0);
   }
   w.add_interaction(std::make_shared<InfiniteForce>());
-  try {
-    w.step(10);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    EXPECT_EQ(e.step, 3);
-    EXPECT_EQ(e.id, 1u);
-    EXPECT_TRUE(has(e.what(), "non-finite")) << e.what();
-  }
+  const dem::BlowUp e = blow_up_of(w, 10);
+  EXPECT_EQ(e.step, 3);
+  EXPECT_EQ(e.id, 1u);
+  EXPECT_TRUE(has(e.what(), "non-finite")) << e.what();
 }
 
 TEST(BlowUp, WallOverlapBeyondTheBound) {
@@ -140,13 +139,9 @@ TEST(BlowUp, WallOverlapBeyondTheBound) {
   const double r = 1e-3, o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, x[3] = {0, 0, 0.1 * r};
   w.add_plane(o, up, 0);
   w.add_particle(x, r, 0);
-  try {
-    w.step(1);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    EXPECT_TRUE(has(e.what(), "overlap with wall 0 is 0.9")) << e.what();
-    EXPECT_NEAR(e.overlap, 0.9, 1e-9);
-  }
+  const dem::BlowUp e = blow_up_of(w, 1);
+  EXPECT_TRUE(has(e.what(), "overlap with wall 0 is 0.9")) << e.what();
+  EXPECT_NEAR(e.overlap, 0.9, 1e-9);
 }
 
 // Many particles on two threads (the parallel pair loop): the first offending pair in list order is named.
@@ -162,13 +157,15 @@ TEST(BlowUp, ParallelPairLoopNamesTheOffendingParticle) {
   auto& p = w.particles();
   p.x[1234] = p.x[1233] + 1.2 * r;  // 0.8 r into its neighbour in x
   w.invalidate_neighbors();
-  try {
-    w.step(1);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    EXPECT_EQ(e.id, 1233u) << e.what();
-    EXPECT_TRUE(has(e.what(), "overlap with particle id 1234 is 0.8")) << e.what();
-  }
+  const dem::BlowUp e = blow_up_of(w, 1);
+  EXPECT_EQ(e.id, 1233u) << e.what();
+  EXPECT_TRUE(has(e.what(), "overlap with particle id 1234 is 0.8")) << e.what();
+}
+
+// A 2 m square steel floor in the plane z = 0 (material 1).
+std::shared_ptr<dem::MeshContact> floor_mesh(const dem::World& w) {
+  return std::make_shared<dem::MeshContact>(
+      dem::TriMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}, "floor"), w.materials(), 1);
 }
 
 TEST(BlowUp, OverlapWithAMeshStopsAndNamesTheMesh) {
@@ -177,29 +174,20 @@ TEST(BlowUp, OverlapWithAMeshStopsAndNamesTheMesh) {
   wp.max_mesh_overlap_fraction = 0.5;
   dem::World w(wp);
   const double r = 1e-3;
-  auto floor = std::make_shared<dem::MeshContact>(
-      dem::TriMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}, "floor"),
-      w.materials(), 1);
-  w.add_interaction(floor);
+  w.add_interaction(floor_mesh(w));
   const double ok[3] = {0.01, 0, 0.8 * r}, deep[3] = {0, 0, 0.3 * r};  // overlaps 0.2 r and 0.7 r
   w.add_particle(ok, r, 0);
   w.add_particle(deep, r, 0);
-  try {
-    w.step(1);
-    FAIL() << "no BlowUp";
-  } catch (const dem::BlowUp& e) {
-    const std::string m = e.what();
-    EXPECT_EQ(e.id, 1u);
-    EXPECT_NEAR(e.overlap, 0.7, 1e-6);
-    EXPECT_TRUE(has(m, "overlap with mesh 'floor' is 0.7")) << m;
-    EXPECT_TRUE(has(m, "max_mesh_overlap_fraction")) << m;
-    EXPECT_EQ(lines(dump).size(), 3u);  // header + 2 particles
-  }
+  const dem::BlowUp e = blow_up_of(w, 1);
+  const std::string m = e.what();
+  EXPECT_EQ(e.id, 1u);
+  EXPECT_NEAR(e.overlap, 0.7, 1e-6);
+  EXPECT_TRUE(has(m, "overlap with mesh 'floor' is 0.7")) << m;
+  EXPECT_TRUE(has(m, "max_mesh_overlap_fraction")) << m;
+  EXPECT_EQ(lines(dump).size(), 3u);  // header + 2 particles
   // The default mesh bound (1: centre on the surface) lets the squeezed sphere run.
   dem::World w2(params(fresh_dump("mesh_ok")));
-  w2.add_interaction(std::make_shared<dem::MeshContact>(
-      dem::TriMesh({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}, "floor"),
-      w2.materials(), 1));
+  w2.add_interaction(floor_mesh(w2));
   w2.add_particle(deep, r, 0);
   EXPECT_NO_THROW(w2.step(1));
 }
