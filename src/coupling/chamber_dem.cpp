@@ -151,6 +151,8 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     const double tau = (k + 1) * h;  // positions at the end of the drift of this step
     set_liners(m, c, tau);
     world_->step(1);
+    for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
+      deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
     const Eigen::Vector3d com_m = m.com + m.velocity * tau, com_c = c.com + c.velocity * tau;
     for (const auto* mc : {mantle_.get(), cap_.get()}) {
       const auto a = mc->wrench_about(com_m);

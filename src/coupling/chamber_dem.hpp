@@ -78,6 +78,9 @@ class ChamberDem {
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
+  // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
+  // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
+  double deepest_liner_overlap() const { return deepest_liner_overlap_; }
   // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
   void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
 
@@ -103,6 +106,7 @@ class ChamberDem {
   core::Profile inner_, outer_;  // chamber walls in the liner frames: mantle + cap, concave + hopper
   bool prefilled_ = false;
   double prefilled_kg_ = 0;
+  double deepest_liner_overlap_ = 0;
   double dt_max_ = 0;
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0;

@@ -193,6 +193,12 @@ class DemNode {
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %.0f s, %zu particles, %ld broken bonds, fed %.1f kg, "
              "discharged %.2f kg", t, T, 100.0 * t / T, t > 0 ? el * (T - t) / t : 0.0,
              dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg);
+    if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
+      warned_squeeze_ = true;
+      ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners: metaparticles too coarse for the "
+               "chamber's setting (each is a rigid sphere that cannot break further); liner forces and power are "
+               "inflated", dem_->deepest_liner_overlap());
+    }
   }
 
   void publish_outputs(bool final_sample) {
@@ -362,6 +368,7 @@ class DemNode {
   inertia_crusher::GeometryWrench last_;
   std::optional<std::string> error_;
   bool finished_ = false;
+  bool warned_squeeze_ = false;
   double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0, start_wall_ = 0, next_progress_ = 0;
 };
 

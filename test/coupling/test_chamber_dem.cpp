@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "coupling/chamber_dem.hpp"
 
@@ -68,6 +69,10 @@ TEST(ChamberDem, FeedsCrushesAndReportsConsistentWrenchesAndProduct) {
   EXPECT_GT(dem.world().particles().size(), 100u);
   // Mass balance: fed = in chamber + discharged + lost, to round-off.
   EXPECT_NEAR(s.fed_kg, s.in_chamber_kg + s.discharged_kg + s.lost_kg, 1e-9 * s.fed_kg);
+  // Rock rests and is crushed on the liners: overlaps are recorded, small against the radius.
+  std::printf("deepest liner overlap %.3f r\n", dem.deepest_liner_overlap());
+  EXPECT_GT(dem.deepest_liner_overlap(), 0.0);
+  EXPECT_LT(dem.deepest_liner_overlap(), 0.5);
   EXPECT_EQ(s.lost_kg, 0.0);
   // Rock rests on the liners: they carry weight (the particles push down on them).
   EXPECT_LT(sum_force.z(), 0.0);
