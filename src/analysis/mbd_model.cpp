@@ -14,12 +14,10 @@ std::vector<EffectSpec> mbd_candidates() {
   // its absorber mode, so only a strong cubic term shows in the motion). Droop: mbd accepts only
   // droop >= dt / (drive-line inertia), 0.0205 rad/s per kN m at 400 rpm (1 ms step); 3 drops the
   // speed by ~5 rad/s at the running torque.
-  return {
-      {"joint_friction", "coulomb_Nm", "N m", 0.0, 2000.0},
-      {"absorber_nonlinearity", "cubic_N_per_m3", "N/m^3", 0.0, 5e11},
-      {"motor_droop", "droop_rad_s_per_kNm", "rad/s per kN m", 0.021, 3.0},
-      {"cardan_misalignment", "angle_deg", "deg", 0.0, 20.0},
-  };
+  std::vector<EffectSpec> c = default_candidates();
+  for (auto& e : c)
+    if (e.name == "motor_droop") e.lo = 0.021, e.hi = 3.0;
+  return c;
 }
 
 mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value) {

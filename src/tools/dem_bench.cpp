@@ -65,12 +65,18 @@ double timed(dem::World& w, long steps) {
   return wall;
 }
 
-void granular_fcc(long steps, int threads, long warmup) {
+// The peers' physics: rock of ../shared/peers, gravity, the given step and thread count.
+dem::WorldParams peer_params(double dt, int threads) {
   dem::WorldParams wp;
-  wp.dt = 1e-6;
+  wp.dt = dt;
   wp.threads = threads;
   wp.gravity = {{0, 0, -9.81}};
   wp.materials = peer_rock();
+  return wp;
+}
+
+void granular_fcc(long steps, int threads, long warmup) {
+  dem::WorldParams wp = peer_params(1e-6, threads);
   wp.skin = 0.3e-3;
   dem::World w(wp);
   const double lo[3] = {0, 0, 0}, hi[3] = {0.06, 0.06, 0.30};
@@ -93,12 +99,7 @@ void granular_fcc(long steps, int threads, long warmup) {
 }
 
 void bonded_hex(long steps, int threads, long warmup) {
-  dem::WorldParams wp;
-  wp.dt = 1e-7;
-  wp.threads = threads;
-  wp.gravity = {{0, 0, -9.81}};
-  wp.materials = peer_rock();
-  dem::World w(wp);
+  dem::World w(peer_params(1e-7, threads));
   const double r = 0.0015, a = 2 * r, hy = a * std::sqrt(3.0) / 2, hz = a * std::sqrt(6.0) / 3;
   const double mn[3] = {0, 0, 0.0015}, mx[3] = {0.05, 0.05, 0.05};
   // Yade pack.regularHexa(inAlignedBox(mn, mx), radius=r, gap=0)
