@@ -5,6 +5,7 @@
 // region index = (ring - 1) * sectors + (sector - 1), the row-major order of ConcaveForceMap.msg.
 #include <string>
 #include <vector>
+#include <utility>
 
 #include "dem/mesh.hpp"
 
@@ -50,6 +51,9 @@ class RegionAverager {
   std::vector<double> mean() const;  // zeros for an empty window
   double window() const { return time_; }
   void reset();
+  // Running sums and window length, for checkpoints.
+  const std::vector<double>& sums() const { return sum_; }
+  void restore(std::vector<double> sums, double window) { sum_ = std::move(sums), time_ = window; }
 
  private:
   std::vector<double> sum_;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <sstream>
+#include <string>
 
 namespace rocks {
 
@@ -30,6 +32,27 @@ class Rng {
     return m * std::cos(6.283185307179586 * u2);
   }
   std::uint64_t next() { return gen_(); }
+  // Complete generator state as text (the standard's stream format), for checkpoints.
+  std::string state() const {
+    std::ostringstream os;
+    os << gen_ << ' ' << have_spare_ << ' ';
+    os.write(reinterpret_cast<const char*>(&spare_), sizeof spare_);
+    return os.str();
+  }
+  // Restores a state() string; returns false if it cannot be parsed.
+  bool set_state(const std::string& s) {
+    std::istringstream is(s);
+    std::mt19937_64 g;
+    bool spare_flag = false;
+    double spare = 0.0;
+    if (!(is >> g >> spare_flag)) return false;
+    is.get();
+    if (!is.read(reinterpret_cast<char*>(&spare), sizeof spare)) return false;
+    gen_ = g;
+    have_spare_ = spare_flag;
+    spare_ = spare;
+    return true;
+  }
 
  private:
   std::mt19937_64 gen_;
