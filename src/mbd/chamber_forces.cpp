@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "mbd/contact_law.hpp"
 
@@ -93,6 +94,17 @@ ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
     contact_rest_gap_ = std::min(contact_rest_gap_, core::signed_distance_inside(c, Eigen::Vector2d(m.z[i], m.r[i]), nullptr));
     contact_reach_ = std::max(contact_reach_, std::hypot(m.z[i], m.r[i]));
   }
+}
+
+void ChamberForces::set_contact_search_state(const std::vector<int>& k) {
+  if (k.size() != contact_k_.size())
+    throw std::invalid_argument("ChamberForces: contact search state has " + std::to_string(k.size()) +
+                                " entries, the mantle profile " + std::to_string(contact_k_.size()) + " vertices");
+  for (int v : k)
+    if (v < 0 || v >= p_.sampling.azimuth)
+      throw std::invalid_argument("ChamberForces: contact search sample " + std::to_string(v) + " outside [0, " +
+                                  std::to_string(p_.sampling.azimuth) + ")");
+  contact_k_ = k;
 }
 
 double ChamberForces::gap(const RigidKinematics& mantle, const RigidKinematics& concave,

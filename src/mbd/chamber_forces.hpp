@@ -61,6 +61,11 @@ class ChamberForces {
   ChamberForceResult compute(const RigidKinematics& mantle, const RigidKinematics& concave, bool bed,
                              double dt, const BedState* state = nullptr, BedState* next = nullptr) const;
   BedState initial_bed_state() const { return BedState(bed_samples_.size()); }
+  // State the contact search carries from one compute() to the next: per mantle profile vertex, the
+  // azimuth sample where the last hill-climb ended (its next start). Saved and restored by checkpoints.
+  const std::vector<int>& contact_search_state() const { return contact_k_; }
+  // Throws std::invalid_argument unless there is one entry in [0, sampling.azimuth) per profile vertex.
+  void set_contact_search_state(const std::vector<int>& k);
   // Local gap (m) of one mantle point given in the mantle liner frame; normal (world) out of the axis.
   double gap(const RigidKinematics& mantle, const RigidKinematics& concave, const Eigen::Vector3d& local,
              Eigen::Vector3d* world_point, Eigen::Vector3d* normal) const;
