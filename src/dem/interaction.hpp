@@ -3,10 +3,14 @@
 // the particle-particle, wall and bond forces and before the second velocity half-step.
 // Implementations add into p.fx/fy/fz and p.tx/ty/tz; they must be deterministic for a given thread
 // count (no atomics on doubles in varying order).
+// Checkpoints: World::save_state/load_state call save_state/load_state of every Interaction in the order they
+// were added; an Interaction that keeps anything from one step to the next (contact histories, a lazily built
+// search structure whose layout depends on the particles present then) writes it there.
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "core/binary_io.hpp"
 #include "dem/particles.hpp"
 
 namespace dem {
@@ -20,6 +24,11 @@ struct Interaction {
   // contact), for World's blow-up check; and what to call this interaction in its message.
   virtual std::pair<double, long> worst_overlap() const { return {0.0, -1}; }
   virtual std::string label() const { return "an extra interaction"; }
+  // Checkpoint of the state this interaction carries from one step to the next (default: stateless, writes and
+  // reads nothing). load_state reads exactly what save_state wrote (open it with a BinaryWriter tag so that a
+  // mismatched file fails there) and throws std::runtime_error (BinaryReader::fail) on a mismatch.
+  virtual void save_state(core::BinaryWriter& w) const {}
+  virtual void load_state(core::BinaryReader& r) {}
   virtual ~Interaction() = default;
 };
 

@@ -262,4 +262,106 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   });
 }
 
+// ------------------------------------------------------------------ checkpoint
+namespace {
+void put_v3(core::BinaryWriter& w, const Eigen::Vector3d& v) {
+  for (int k = 0; k < 3; ++k) w.put<double>(v[k]);
+}
+Eigen::Vector3d get_v3(core::BinaryReader& r) {
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) v[k] = r.get<double>();
+  return v;
+}
+}  // namespace
+
+void MeshContact::save_state(core::BinaryWriter& w) const {
+  w.tag("MESH");
+  w.put<uint64_t>(mesh_.num_triangles());
+  const Pose& pose = mesh_.pose();
+  put_v3(w, pose.position);
+  for (int k = 0; k < 4; ++k) w.put<double>(pose.orientation.coeffs()[k]);  // x, y, z, w
+  put_v3(w, mesh_.twist().linear);
+  put_v3(w, mesh_.twist().angular);
+  // broad phase: built lazily from the largest radius at its first use (candidates come in triangle order in
+  // every cell, so results do not depend on it; restored so the loaded object has the same grid and cost)
+  w.put<uint8_t>(grid_.empty() ? 0 : 1);
+  w.put<double>(grid_.margin());
+  w.put<double>(grid_cell_);
+  // tangential histories of the last step, sorted by (particle id, triangle)
+  w.put<uint64_t>(old_.size());
+  for (const Old& o : old_) {
+    w.put<uint64_t>(o.id);
+    w.put<int32_t>(o.tri);
+    put_v3(w, o.normal);
+    put_v3(w, o.history);
+  }
+  // the last step's totals (read by the coupling between steps)
+  put_v3(w, force_);
+  put_v3(w, torque_origin_);
+  w.put<double>(total_normal_);
+  w.put<double>(worst_ratio_);
+  w.put<int64_t>(worst_index_);
+  w.put_vec(region_normal_);
+  w.put<uint64_t>(region_force_.size());
+  for (const auto& f : region_force_) put_v3(w, f);
+}
+
+void MeshContact::load_state(core::BinaryReader& r) {
+  r.expect("MESH");
+  const uint64_t ntri = r.get<uint64_t>();
+  if (ntri != mesh_.num_triangles())
+    r.fail("mesh '" + mesh_.name() + "' was saved with " + std::to_string(ntri) + " triangles, this one has " +
+           std::to_string(mesh_.num_triangles()));
+  Pose pose;
+  pose.position = get_v3(r);
+  for (int k = 0; k < 4; ++k) pose.orientation.coeffs()[k] = r.get<double>();
+  Twist twist;
+  twist.linear = get_v3(r);
+  twist.angular = get_v3(r);
+  const bool has_grid = r.get<uint8_t>() != 0;
+  const double margin = r.get<double>(), cell = r.get<double>();
+  const uint64_t nold = r.get<uint64_t>();
+  if (nold > (uint64_t(1) << 32)) r.fail("mesh '" + mesh_.name() + "': implausible history count " + std::to_string(nold));
+  std::vector<Old> old(nold);
+  for (uint64_t k = 0; k < nold; ++k) {
+    Old& o = old[k];
+    o.id = r.get<uint64_t>();
+    o.tri = r.get<int32_t>();
+    o.normal = get_v3(r);
+    o.history = get_v3(r);
+    if (o.tri < 0 || static_cast<uint64_t>(o.tri) >= ntri ||
+        (k > 0 && (o.id < old[k - 1].id || (o.id == old[k - 1].id && o.tri <= old[k - 1].tri))))
+      r.fail("mesh '" + mesh_.name() + "': contact history out of range or order");
+  }
+  const Eigen::Vector3d force = get_v3(r), torque = get_v3(r);
+  const double total_normal = r.get<double>(), worst_ratio = r.get<double>();
+  const int64_t worst_index = r.get<int64_t>();
+  std::vector<double> region_normal;
+  r.get_vec(region_normal, uint64_t(1) << 24);
+  const uint64_t nrf = r.get<uint64_t>();
+  const uint64_t nreg = regions_ ? static_cast<uint64_t>(regions_->num_regions()) : 0;
+  if (nrf != region_normal.size() || (nrf != 0 && nrf != nreg))
+    r.fail("mesh '" + mesh_.name() + "' was saved with " + std::to_string(nrf) + " regions, this one has " +
+           std::to_string(nreg));
+  std::vector<Eigen::Vector3d> region_force(nrf);
+  for (auto& f : region_force) f = get_v3(r);
+  try {
+    mesh_.set_pose(pose);
+  } catch (const std::invalid_argument& e) {
+    r.fail(e.what());
+  }
+  mesh_.set_twist(twist);
+  grid_cell_ = cell;
+  grid_ = has_grid ? TriangleGrid(mesh_, margin, grid_cell_) : TriangleGrid();
+  old_ = std::move(old);
+  contacts_.clear();
+  force_ = force;
+  torque_origin_ = torque;
+  total_normal_ = total_normal;
+  worst_ratio_ = worst_ratio;
+  worst_index_ = worst_index;
+  region_normal_ = std::move(region_normal);
+  region_force_ = std::move(region_force);
+}
+
 }  // namespace dem

@@ -23,6 +23,13 @@
 // when a particle larger than its margin appears. OpenMP over particles with a static schedule;
 // per-contact records are concatenated in particle order and reduced serially, so results are
 // bit-identical for any thread count.
+//
+// Checkpoint (save_state/load_state, called by World's): the tangential histories of the last step (per
+// particle id and triangle, with their normals for the hand-over), the broad-phase grid's margin and cell (the
+// grid is built lazily from the largest radius present at its first use; it is rebuilt the same on load, so the
+// restored object also keeps its cost), the pose and twist, and the last step's totals (wrench, total and
+// per-region normal force, worst overlap). contacts() is empty after a load until the next step. The caller
+// still sets the pose and twist before each step as usual.
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
@@ -93,6 +100,11 @@ class MeshContact : public Interaction {
   const std::vector<double>& region_normal_force() const { return region_normal_; }
   const std::vector<Eigen::Vector3d>& region_force() const { return region_force_; }
   const TriangleGrid& grid() const { return grid_; }
+
+  // Checkpoint (block "MESH"); load_state needs a MeshContact on a mesh with the same triangle count (and the
+  // same region count when the file has per-region totals) and throws std::runtime_error otherwise.
+  void save_state(core::BinaryWriter& w) const override;
+  void load_state(core::BinaryReader& r) override;
 
  private:
   struct TriData {  // body-frame geometry for the narrow phase

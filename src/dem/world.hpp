@@ -11,6 +11,10 @@
 // logged) -> bond gather and wall forces -> Interaction::add_forces -> half kick. Blow-up checks (BlowUp) on
 // overlaps and non-finite states happen inside these loops. Forces of a new particle are zero until
 // its first step. Particles with fixed[i] = 1 keep their velocities (prescribed motion).
+//
+// Checkpoint/restart: save_state / load_state (world_checkpoint.cpp) write and read the complete evolving state
+// through core::BinaryWriter/BinaryReader; a World loaded from a checkpoint continues bit for bit like the run
+// that wrote it.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -20,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/binary_io.hpp"
 #include "dem/bonds.hpp"
 #include "dem/cell_grid.hpp"
 #include "dem/interaction.hpp"
@@ -125,6 +130,31 @@ class World {
   const std::array<double, 7>& phase_seconds() const { return phase_s_; }
   // Writes the particle state as CSV (the blow-up dump); throws std::runtime_error if the file cannot be written.
   void write_state_csv(const std::string& path) const;
+
+  // ---- checkpoint/restart (world_checkpoint.cpp)
+  // Writes the complete evolving state, between two step() calls: particles (x, v, w, r, m, 1/m, 1/I, material,
+  // fixed, and f, t of the last step: the next step's first half kick uses them), ids and next_id; bonds with
+  // their spring state (broken ones of the last step included); the touching neighbour pairs with their
+  // tangential histories and touch flags (the forced rebuild below carries them into the new list by pair
+  // identity); per planar wall its point, normal, velocity, material and last force, per particle the wall
+  // histories (non-zero ones) and wall-touch flag; time, step count, rebuild count, skin, dt and whether dt was
+  // checked; the break log; then each Interaction's state (Interaction::save_state) in the order added, each
+  // preceded by its label(). Blocks are tagged "WRLD", "PART", "WALL", "BOND", "PAIR", "INTR" (one per
+  // interaction), "WEND".
+  // Non-const: it also schedules a neighbour-list rebuild for the next step (the list's pair and slab layout
+  // fixes the order in which forces are summed), so that this run and a World loaded from the file take
+  // identical steps afterwards (results equal bit for bit). Not written: WorldParams (construction) and the
+  // phase timings.
+  void save_state(core::BinaryWriter& w);
+  // Restores a state written by save_state into a World constructed with the same WorldParams (the thread count
+  // may differ: results do not depend on it; dt is taken from the file, as set_dt may have changed it) with the
+  // same walls and the same interactions added in the same order. Particles, bonds, pairs, wall state, break log,
+  // time and counters are replaced by the file's (particles added before the call are dropped). Throws
+  // std::runtime_error ("checkpoint <name>: ...") naming what does not match: a missing block tag, wall,
+  // interaction or material count, an interaction's label, inconsistent array lengths or indices, a truncated
+  // file. On an error the World's own state is unchanged; interactions read before the failing block may have
+  // been restored, so do not step such a World.
+  void load_state(core::BinaryReader& r);
 
  private:
   struct BondOutSlot {  // force on j (i gets -f), torques on i and j
