@@ -10,6 +10,7 @@ RunOptions load_run_options(const ConfigNode& run) {
   o.tf_hz = run.number_or("tf_hz", o.tf_hz, 1, 1000, "Hz");
   o.settle_s = run.number_or("settle_s", o.settle_s, 0, 3600, "s");
   o.warm_start_s = run.number_or("warm_start_s", o.warm_start_s, 0, 600, "s");
+  o.checkpoint_every_s = run.number_or("checkpoint_every_s", o.checkpoint_every_s, 0, 3600, "s");
   if (o.settle_s >= o.duration_s && o.duration_s > 0.5) {
     run.fail("settle_s", "must be shorter than run.duration_s (" + std::to_string(o.duration_s) + " s)");
   }

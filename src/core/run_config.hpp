@@ -13,6 +13,7 @@ struct RunOptions {
   double tf_hz = 50;          // tf and liner markers
   double settle_s = 1.0;      // start-up transient excluded from summary.json
   double warm_start_s = 0.0;  // mechanism alone (idle for dem runs) before t = 0: starts at speed, frame settled
+  double checkpoint_every_s = 0.0;  // coupled runs: save both nodes' state this often (simulated s; 0 = never)
 };
 
 struct CouplingOptions {

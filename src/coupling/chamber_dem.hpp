@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/binary_io.hpp"
 #include "coupling/chamber_params.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/region_map.hpp"
@@ -83,6 +84,13 @@ class ChamberDem {
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
   // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
   void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
+
+  // Checkpoints (chamber_checkpoint.cpp): the whole evolving state (DEM world, feed, screening, force-map
+  // window, trajectories, random generator). Written between advance() calls; it schedules a neighbour-list
+  // rebuild, so this run and one restored from the file continue identically. load_state needs a ChamberDem
+  // built from the same ChamberParams and throws std::runtime_error naming what does not match.
+  void save_state(core::BinaryWriter& w);
+  void load_state(core::BinaryReader& r);
 
  private:
   void set_liners(const BodyMotion& m, const BodyMotion& c, double tau);

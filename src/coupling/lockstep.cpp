@@ -31,7 +31,7 @@ bool Leader::should_resend(double now_s) {
 
 void Leader::check_timeout(double now_s) const {
   if (!pending_) return;
-  double limit = completed_ == 0 ? o_.first_timeout_s : o_.timeout_s;
+  double limit = completed_ == start_ ? o_.first_timeout_s : o_.timeout_s;
   if (now_s - sent_at_ > limit) {
     throw ProtocolError("coupling: no answer from the DEM node for step " + std::to_string(*pending_) +
                         " within " + std::to_string(limit) + " s; is dem_node running on the same master?");
@@ -50,6 +50,18 @@ Follower::Action Follower::on_request(std::uint64_t step) {
                       std::to_string(expected) + " was expected (a step was lost; restart both nodes)");
 }
 
+void Leader::resume_at(std::uint64_t step) {
+  if (pending_ || next_ != 0) throw ProtocolError("coupling: resume_at must come before the first request");
+  next_ = completed_ = start_ = step;
+}
+
 void Follower::answered(std::uint64_t step) { last_ = step; }
+
+void Follower::resume_at(std::uint64_t step) {
+  if (step == 0) throw ProtocolError("coupling: a checkpoint is taken after step 0, not before it");
+  if (last_) throw ProtocolError("coupling: resume_at must come before the first request");
+  last_ = step - 1;
+  advanced_ = step;
+}
 
 }  // namespace coupling

@@ -36,6 +36,9 @@ class Leader {
   bool should_resend(double now_s);
   // Throws ProtocolError if the peer has been silent too long.
   void check_timeout(double now_s) const;
+  // Resuming from a checkpoint taken before step `step`: the next request is `step`, and its answer gets the
+  // first-answer timeout (the peer loads its own checkpoint first).
+  void resume_at(std::uint64_t step);
 
   bool pending() const { return pending_.has_value(); }
   std::uint64_t completed() const { return completed_; }  // steps answered so far
@@ -44,7 +47,7 @@ class Leader {
  private:
   LeaderOptions o_;
   std::optional<std::uint64_t> pending_;
-  std::uint64_t next_ = 0, completed_ = 0, duplicates_ = 0;
+  std::uint64_t next_ = 0, completed_ = 0, duplicates_ = 0, start_ = 0;
   double sent_at_ = 0, last_send_ = 0;
 };
 
@@ -56,6 +59,8 @@ class Follower {
   // asked again), Ignore (older). A gap (a step skipped) throws: the two solvers would no longer agree.
   Action on_request(std::uint64_t step);
   void answered(std::uint64_t step);  // the reply for `step` was sent
+  // Resuming from a checkpoint taken before step `step` (> 0): `step` is the next expected request.
+  void resume_at(std::uint64_t step);
   std::optional<std::uint64_t> last_answered() const { return last_; }
   std::uint64_t advanced() const { return advanced_; }
 

@@ -3,6 +3,9 @@
 // run merges dem.bag into mbd_node's run.bag with merge_bags), ~duration (s, overrides run.duration_s).
 // Answers each /crusher/geometry_state with the time-averaged liner wrench for the same step, and publishes
 // particles, liners, the concave force map and the screened product at run.tf_hz of sim time.
+// ~resume (true): continue the run in ~out from the newest checkpoint both nodes wrote. With
+// run.checkpoint_every_s > 0 the state is saved at the same coupling steps as mbd_node's, and the bag is
+// written in segments dem.seg<step>.bag (scripts/crusher run joins them).
 #include <inertia_crusher/ConcaveForceMap.h>
 #include <inertia_crusher/GeometryState.h>
 #include <inertia_crusher/GeometryWrench.h>
@@ -17,9 +20,13 @@
 #include <memory>
 #include <optional>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
+#include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "nodes/ros_common.hpp"
@@ -74,7 +81,8 @@ std_msgs::ColorRGBA colour_of(int label) {  // distinct, stable colours per frag
 
 class DemNode {
  public:
-  DemNode(ros::NodeHandle& nh, Config cfg, std::string out) : cfg_(std::move(cfg)), out_(std::move(out)) {
+  DemNode(ros::NodeHandle& nh, Config cfg, std::string out, bool resume)
+      : cfg_(std::move(cfg)), out_(std::move(out)) {
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
@@ -89,10 +97,30 @@ class DemNode {
     pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
     pub_map_markers_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/concave_force_markers", 2, true);
     sub_ = nh.subscribe("/crusher/geometry_state", 100, &DemNode::on_state, this, ros::TransportHints().tcpNoDelay());
+    ck_steps_ = cfg_.run.checkpoint_every_s > 0
+                    ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+    if (resume && out_.empty()) throw std::invalid_argument("~resume needs ~out, the run's folder");
+    std::streamoff breaks_size = 0;
+    if (resume) breaks_size = resume_from_checkpoint();
     if (!out_.empty()) {
-      bag_.open(out_ + "/dem.bag");
-      breaks_.open(out_ + "/breaks.csv");
-      breaks_ << "t_s,x_m,y_m,z_m,mode,id_i,id_j,sigma_Pa,tau_Pa\n";
+      if (!ck_steps_) {
+        bag_.open(out_ + "/dem.bag");
+      } else {
+        if (!resume) {  // checkpoints and segments of an earlier run in ~out
+          for (auto k : coupling::checkpoint_steps(out_, "dem"))
+            std::filesystem::remove(coupling::checkpoint_path(out_, "dem", k));
+        }
+        coupling::remove_bag_segments_from(out_, "dem", resume_step_);
+        bag_.open(coupling::bag_segment_path(out_, "dem", resume_step_));
+      }
+      const std::string bp = out_ + "/breaks.csv";
+      if (resume) {  // the log as it was at the checkpoint, then appended
+        if (::truncate(bp.c_str(), breaks_size) != 0) throw std::runtime_error("~resume: cannot truncate " + bp);
+        breaks_.open(bp, std::ios::app);
+      } else {
+        breaks_.open(bp);
+        breaks_ << "t_s,x_m,y_m,z_m,mode,id_i,id_j,sigma_Pa,tau_Pa\n";
+      }
     }
   }
 
@@ -107,12 +135,19 @@ class DemNode {
         }
         ros::spinOnce();
         if (error_) throw std::runtime_error(*error_);
-        const double limit = follower_.last_answered() ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
+        const double limit = requested_ ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
         if (nodes::wall_now() - last_heard_ > limit) {
           throw std::runtime_error("no geometry state from mbd_node for " + std::to_string(limit) +
                                    " s; is mbd_node running with run.load = dem on the same master?");
         }
         ros::WallDuration(2e-5).sleep();
+      }
+      // The end (or a stop between steps): the state before the next step, so that the run can be extended.
+      if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_) {
+        const std::uint64_t k = *follower_.last_answered() + 1;
+        write_checkpoint(k);
+        bag_.close();  // the final outputs below belong after the checkpoint (a resumed run rewrites them)
+        bag_.open(coupling::bag_segment_path(out_, "dem", k));
       }
     } catch (const std::exception& e) {
       ROS_ERROR("dem_node: %s; the bag and the break log are kept", e.what());
@@ -133,6 +168,7 @@ class DemNode {
     const double now = nodes::wall_now();
     wait_s_ += now - last_heard_;
     last_heard_ = now;
+    requested_ = true;
     if (g->finished) {
       finished_ = true;
       return;
@@ -146,6 +182,11 @@ class DemNode {
           return;
         case coupling::Follower::Action::Advance:
           break;
+      }
+      if (ck_steps_ && g->step % ck_steps_ == 0 && g->step != last_checkpoint_) {
+        write_checkpoint(g->step);
+        bag_.close();
+        bag_.open(coupling::bag_segment_path(out_, "dem", g->step));
       }
       auto [wm, wc] = dem_->advance(motion(g->mantle_pose, g->mantle_twist),
                                     motion(g->concave_pose, g->concave_twist), g->dt);
@@ -357,8 +398,48 @@ class DemNode {
     return arr;
   }
 
+  // ---- checkpoints: the DEM state at the start of coupling step k, with what this node adds to it
+  void write_checkpoint(std::uint64_t k) {
+    const double w0 = nodes::wall_now();
+    breaks_.flush();
+    const std::streamoff breaks_size = breaks_.is_open() ? static_cast<std::streamoff>(breaks_.tellp()) : 0;
+    coupling::write_checkpoint(out_, {"dem", k, dem_->time()}, [&](core::BinaryWriter& w) {
+      dem_->save_state(w);
+      w.tag("NODE");
+      w.put(next_output_);
+      w.put<int64_t>(breaks_size);
+    });
+    last_checkpoint_ = k;
+    ROS_INFO("dem_node: checkpoint at step %llu (t = %.4f s, %zu particles) in %.2f s",
+             static_cast<unsigned long long>(k), dem_->time(), dem_->world().particles().size(),
+             nodes::wall_now() - w0);
+  }
+
+  // Returns the break log's length at the checkpoint.
+  std::streamoff resume_from_checkpoint() {
+    auto k = coupling::latest_common_checkpoint(out_, {"mbd", "dem"});
+    if (!k) {
+      throw std::runtime_error("~resume: no checkpoint written by both nodes in " + coupling::checkpoint_dir(out_) +
+                               " (a run writes them with run.checkpoint_every_s > 0)");
+    }
+    std::streamoff breaks_size = 0;
+    auto h = coupling::read_checkpoint(out_, "dem", *k, [&](core::BinaryReader& r) {
+      dem_->load_state(r);
+      r.expect("NODE");
+      r.get(next_output_);
+      breaks_size = r.get<int64_t>();
+    });
+    follower_.resume_at(*k);
+    resume_step_ = last_checkpoint_ = *k;
+    ROS_INFO("dem_node: resumed from the checkpoint at step %llu (t = %.4f s, %zu particles)",
+             static_cast<unsigned long long>(*k), h.time, dem_->world().particles().size());
+    return breaks_size;
+  }
+
   Config cfg_;
   std::string out_;
+  long ck_steps_ = 0;  // coupling steps per checkpoint (0: off)
+  std::uint64_t last_checkpoint_ = 0, resume_step_ = 0;
   std::unique_ptr<coupling::ChamberDem> dem_;
   coupling::Follower follower_;
   ros::Publisher pub_wrench_, pub_particles_, pub_liners_, pub_product_, pub_map_, pub_map_markers_;
@@ -368,6 +449,7 @@ class DemNode {
   inertia_crusher::GeometryWrench last_;
   std::optional<std::string> error_;
   bool finished_ = false;
+  bool requested_ = false;  // a geometry state has arrived (until then the first-answer timeout applies)
   bool warned_squeeze_ = false;
   double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0, start_wall_ = 0, next_progress_ = 0;
 };
@@ -396,7 +478,12 @@ int main(int argc, char** argv) {
   if (duration > 0) cfg.run.duration_s = duration;
   if (!out.empty()) ::mkdir(out.c_str(), 0755);
   try {
-    DemNode node(nh, std::move(cfg), out);
+    bool resume = false;
+    if (!nodes::bool_param(pnh, "resume", &resume)) {
+      std::fprintf(stderr, "dem_node: parameter ~resume is not accepted; accepted: true, false\n");
+      return 2;
+    }
+    DemNode node(nh, std::move(cfg), out, resume);
     return node.run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dem_node: %s\n", e.what());

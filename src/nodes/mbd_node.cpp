@@ -1,6 +1,10 @@
 // mbd_node: the crusher mechanism (src/mbd) as a ROS node. Parameters in, topics and a bag out.
 //   ~config (path, required), ~out (dir for run.bag and summary.json), ~load (none|bed|dem), ~duration (s),
-//   ~max_rtf (at most this many times real time, e.g. 1 to watch in rviz; 0 = as fast as possible)
+//   ~max_rtf (at most this many times real time, e.g. 1 to watch in rviz; 0 = as fast as possible),
+//   ~resume (true: continue a coupled run in ~out from its newest checkpoint, see coupling/checkpoint_files.hpp)
+// With run.checkpoint_every_s > 0 (coupled runs) the state is saved every so many simulated seconds and at the
+// end, and the bag is written in segments run.seg<step>.bag, one per checkpoint interval (scripts/crusher run
+// joins them into run.bag).
 // Sim time: this node is the clock (/clock). In `dem` load mode it leads the lockstep coupling.
 #include <inertia_crusher/DriveState.h>
 #include <inertia_crusher/GeometryState.h>
@@ -18,8 +22,11 @@
 #include <optional>
 #include <sys/stat.h>
 
+#include <filesystem>
+
 #include "analysis/run_metrics.hpp"
 #include "core/run_config.hpp"
+#include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
@@ -59,13 +66,20 @@ Config load_config(const std::string& path, const std::string& load_override, do
 
 class MbdNode {
  public:
-  MbdNode(ros::NodeHandle& nh, Config cfg, std::string out_dir, std::string config_path, double max_rtf)
+  MbdNode(ros::NodeHandle& nh, Config cfg, std::string out_dir, std::string config_path, double max_rtf, bool resume)
       : cfg_(std::move(cfg)), out_(std::move(out_dir)), config_path_(std::move(config_path)), max_rtf_(max_rtf),
         leader_({cfg_.coupling.timeout_s, 0.5, cfg_.coupling.first_timeout_s}) {
     // In `dem` mode the particles are the load; `bed` is the equivalent material-bed model; `none` idles.
     mech_ = std::make_unique<mbd::Mechanism>(cfg_.mech, cfg_.run.load == "bed" ? mbd::LoadModel::Bed
                                                                                 : mbd::LoadModel::None);
-    if (cfg_.run.warm_start_s > 0) {  // before any topic: the run's clock starts after it
+    const bool coupled = cfg_.run.load == "dem";
+    ck_steps_ = coupled && cfg_.run.checkpoint_every_s > 0
+                    ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+    if (resume) {
+      if (!coupled || out_.empty())
+        throw std::invalid_argument("~resume needs a coupled run (run.load dem) and ~out, the run's folder");
+      resume_from_checkpoint();
+    } else if (cfg_.run.warm_start_s > 0) {  // before any topic: the run's clock starts after it
       mech_->warm_start(cfg_.run.warm_start_s, cfg_.run.load == "bed" ? mbd::LoadModel::Bed : mbd::LoadModel::None);
       ROS_INFO("mbd_node: warm start, %.2f s of the mechanism alone before t = 0", cfg_.run.warm_start_s);
     }
@@ -79,7 +93,15 @@ class MbdNode {
                                  ros::TransportHints().tcpNoDelay());
       sub_product_ = nh.subscribe("/crusher/product", 100, &MbdNode::on_product, this);
     }
-    if (!out_.empty()) bag_.open(out_ + "/run.bag");
+    if (!out_.empty()) {
+      if (!ck_steps_) {
+        bag_.open(out_ + "/run.bag");
+      } else {
+        if (!resume) clear_own_files();
+        coupling::remove_bag_segments_from(out_, "run", resume_step_);  // written after the checkpoint
+        bag_.open(coupling::bag_segment_path(out_, "run", resume_step_));
+      }
+    }
   }
 
   // Runs to the end (or until stopped); returns the exit status.
@@ -89,6 +111,11 @@ class MbdNode {
     int status = 0;
     try {
       loop();
+      if (ck_steps_ && leader_.completed() != last_checkpoint_) {  // the end: a resumed run extends it
+        write_checkpoint();
+        bag_.close();  // what follows (the last product) belongs after the checkpoint
+        bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
+      }
     } catch (const std::exception& e) {
       ROS_ERROR("mbd_node: %s (t = %.4f s); the bag and the partial summary are kept", e.what(), mech_->time());
       status = 1;
@@ -106,11 +133,19 @@ class MbdNode {
     const bool coupled = cfg_.run.load == "dem";
     const long steps_per_coupling = coupled ? std::max(1L, std::lround(cfg_.coupling.dt_s / dt)) : 1;
     // Samples at t = k / publish_hz, k >= 1 (a bag cannot hold time 0, and sim time 0 means 'no clock yet').
-    double next_pub = pub_dt, next_tf = tf_dt, next_progress = 0;
+    if (next_pub_ == 0) next_pub_ = pub_dt, next_tf_ = tf_dt;
+    double& next_pub = next_pub_;
+    double& next_tf = next_tf_;
+    double next_progress = 0;
     while (mech_->time() < t_end - 0.5 * dt) {
       if (nodes::stop_requested() || !ros::ok()) {
         ROS_WARN("mbd_node: stopped at t = %.4f s; closing the bag", mech_->time());
         break;
+      }
+      if (ck_steps_ && leader_.completed() % ck_steps_ == 0 && leader_.completed() != last_checkpoint_) {
+        write_checkpoint();
+        bag_.close();
+        bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
       }
       if (coupled) exchange(steps_per_coupling * dt);
       for (long i = 0; i < steps_per_coupling; ++i) {
@@ -287,8 +322,69 @@ class MbdNode {
              s.power_kW.mean);
   }
 
+  // ---- checkpoints (coupled runs with run.checkpoint_every_s > 0)
+  // Old checkpoints and segments of this node in ~out belong to an earlier run: a fresh run removes them.
+  void clear_own_files() {
+    for (auto k : coupling::checkpoint_steps(out_, "mbd")) std::filesystem::remove(coupling::checkpoint_path(out_, "mbd", k));
+    coupling::remove_bag_segments_from(out_, "run", 0);
+  }
+
+  void write_checkpoint() {
+    const double w0 = nodes::wall_now();
+    const std::uint64_t k = leader_.completed();
+    coupling::write_checkpoint(out_, {"mbd", k, mech_->time()}, [&](core::BinaryWriter& w) {
+      mech_->save_state(w);
+      w.tag("NODE");
+      w.put(next_pub_);
+      w.put(next_tf_);
+      for (const auto* v : {&sig_.t_s, &sig_.x_m, &sig_.y_m, &sig_.z_m, &sig_.power_W, &sig_.speed_rad_s}) w.put_vec(*v);
+      w.put<char>(product_.has_value());
+      if (product_) {
+        w.put(product_->throughput_tph);
+        w.put(product_->mass_discharged_kg);
+        w.put(product_->mass_lost_kg);
+        w.put_vec(product_->sieve_mm);
+        w.put_vec(product_->passing_pct);
+      }
+    });
+    last_checkpoint_ = k;
+    ROS_INFO("mbd_node: checkpoint at step %llu (t = %.4f s) in %.2f s", static_cast<unsigned long long>(k),
+             mech_->time(), nodes::wall_now() - w0);
+  }
+
+  void resume_from_checkpoint() {
+    auto k = coupling::latest_common_checkpoint(out_, {"mbd", "dem"});
+    if (!k) {
+      throw std::runtime_error("~resume: no checkpoint written by both nodes in " + coupling::checkpoint_dir(out_) +
+                               " (a run writes them with run.checkpoint_every_s > 0)");
+    }
+    auto h = coupling::read_checkpoint(out_, "mbd", *k, [&](core::BinaryReader& r) {
+      mech_->load_state(r);
+      r.expect("NODE");
+      r.get(next_pub_);
+      r.get(next_tf_);
+      for (auto* v : {&sig_.t_s, &sig_.x_m, &sig_.y_m, &sig_.z_m, &sig_.power_W, &sig_.speed_rad_s}) r.get_vec(*v);
+      if (r.get<char>()) {
+        analysis::ProductSummary p;
+        r.get(p.throughput_tph);
+        r.get(p.mass_discharged_kg);
+        r.get(p.mass_lost_kg);
+        r.get_vec(p.sieve_mm);
+        r.get_vec(p.passing_pct);
+        product_ = p;
+      }
+    });
+    leader_.resume_at(*k);
+    resume_step_ = last_checkpoint_ = *k;
+    ROS_INFO("mbd_node: resumed from the checkpoint at step %llu (t = %.4f s)", static_cast<unsigned long long>(*k),
+             h.time);
+  }
+
   Config cfg_;
   std::string out_, config_path_;
+  long ck_steps_ = 0;  // coupling steps per checkpoint (0: off)
+  std::uint64_t last_checkpoint_ = 0, resume_step_ = 0;
+  double next_pub_ = 0, next_tf_ = 0;
   double max_rtf_ = 0, wall_start_ = 0;
   std::unique_ptr<mbd::Mechanism> mech_;
   coupling::Leader leader_;
@@ -326,6 +422,16 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!out.empty()) ::mkdir(out.c_str(), 0755);
-  MbdNode node(nh, std::move(cfg), out, config_path, nodes::param_or(pnh, "max_rtf", 0.0));
-  return node.run();
+  bool resume = false;
+  if (!nodes::bool_param(pnh, "resume", &resume)) {
+    std::fprintf(stderr, "mbd_node: parameter ~resume is not accepted; accepted: true, false\n");
+    return 2;
+  }
+  try {
+    MbdNode node(nh, std::move(cfg), out, config_path, nodes::param_or(pnh, "max_rtf", 0.0), resume);
+    return node.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mbd_node: %s\n", e.what());
+    return 2;
+  }
 }

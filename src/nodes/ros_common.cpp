@@ -81,4 +81,9 @@ double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback) 
   return fallback;
 }
 
+bool bool_param(ros::NodeHandle& pnh, const std::string& name, bool* value) {
+  *value = false;
+  return !pnh.hasParam(name) || pnh.getParam(name, *value);
+}
+
 }  // namespace nodes

@@ -53,5 +53,7 @@ double wall_now();
 // Reads a private parameter as string ("" when unset).
 std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback);
 double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback);
+// Reads a private boolean parameter (false when unset); returns false if it is set but not a boolean.
+bool bool_param(ros::NodeHandle& pnh, const std::string& name, bool* value);
 
 }  // namespace nodes

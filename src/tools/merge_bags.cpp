@@ -6,6 +6,9 @@
 // node received from the added bag's node (mbd_node records the DEM's wrenches and product as it applies
 // them), while the added bag is the publisher's own, lossless record. An input that cannot be read leaves
 // BASE.bag untouched (exit 1). Prints one line per topic: `topic NAME messages N from FILE`.
+//   merge_bags --concat OUT.bag SEGMENT.bag [SEGMENT.bag ...]
+// joins a node's bag segments (a checkpointed run: run.seg<step>.bag, ...) into OUT.bag: every message of
+// every segment, in time order. OUT.bag is written through OUT.bag.part; an unreadable segment leaves it as it was.
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -28,9 +31,11 @@ std::set<std::string> topics_of(rosbag::Bag& bag) {
   return out;
 }
 
-int merge(const std::vector<std::string>& paths) {
+// paths[0]: the output (and, unless concat, the base input); concat: all topics of all inputs paths[1..].
+int merge(const std::vector<std::string>& paths, bool concat) {
   std::vector<std::unique_ptr<rosbag::Bag>> in;
-  for (const auto& p : paths) {
+  for (std::size_t k = concat ? 1 : 0; k < paths.size(); ++k) {
+    const auto& p = paths[k];
     in.push_back(std::make_unique<rosbag::Bag>());
     try {
       in.back()->open(p, rosbag::bagmode::Read);
@@ -39,12 +44,16 @@ int merge(const std::vector<std::string>& paths) {
       return 1;
     }
   }
-  // Each topic from the last bag that holds it.
+  // Each topic from the last bag that holds it (concat: from every bag).
   std::map<std::string, std::size_t> source;
-  for (std::size_t k = 0; k < in.size(); ++k)
-    for (const auto& t : topics_of(*in[k])) source[t] = k;
   std::vector<std::vector<std::string>> take(in.size());
-  for (const auto& [topic, k] : source) take[k].push_back(topic);
+  for (std::size_t k = 0; k < in.size(); ++k)
+    for (const auto& t : topics_of(*in[k])) {
+      source[t] = k;
+      if (concat) take[k].push_back(t);
+    }
+  if (!concat)
+    for (const auto& [topic, k] : source) take[k].push_back(topic);
 
   const std::string part = paths[0] + ".part";
   std::map<std::string, long> count;
@@ -70,7 +79,8 @@ int merge(const std::vector<std::string>& paths) {
     return 1;
   }
   for (const auto& [topic, k] : source)
-    std::cout << "topic " << topic << " messages " << count[topic] << " from " << paths[k] << "\n";
+    std::cout << "topic " << topic << " messages " << count[topic] << " from "
+              << (concat ? std::to_string(in.size()) + " segments" : paths[k]) << "\n";
   return 0;
 }
 
@@ -79,13 +89,16 @@ int merge(const std::vector<std::string>& paths) {
 
 int main(int argc, char** argv) {
   std::vector<std::string> paths(argv + 1, argv + argc);
+  const bool concat = !paths.empty() && paths[0] == "--concat";
+  if (concat) paths.erase(paths.begin());
   if (paths.size() < 2 || paths[0].rfind("-", 0) == 0) {
     std::cerr << "usage: merge_bags BASE.bag ADDED.bag [ADDED.bag ...]  (merges into BASE.bag in time order; "
-                 "a topic of an added bag replaces the base's copy of it)\n";
+                 "a topic of an added bag replaces the base's copy of it)\n"
+                 "       merge_bags --concat OUT.bag SEGMENT.bag [SEGMENT.bag ...]  (every message of the segments)\n";
     return 2;
   }
 #ifdef CRUSHER_WITH_ROS
-  return merge(paths);
+  return merge(paths, concat);
 #else
   std::cerr << "merge_bags: needs a build with ROS (CRUSHER_WITH_ROS)\n";
   return 2;

@@ -104,3 +104,13 @@ TEST(RunConfig, ReadsRunSectionAndRejectsBadLoad) {
   EXPECT_NE(msg.find("run.load"), std::string::npos) << msg;
   EXPECT_NE(msg.find("none, bed, dem"), std::string::npos) << msg;
 }
+
+TEST(RunConfig, CheckpointIntervalIsOffByDefaultAndMustNotBeNegative) {
+  auto root = ConfigNode::load_string("run: {duration_s: 5, load: dem}\n");
+  EXPECT_EQ(core::load_run_options(root.child("run")).checkpoint_every_s, 0.0);
+  auto on = ConfigNode::load_string("run: {duration_s: 5, load: dem, checkpoint_every_s: 0.02}\n");
+  EXPECT_DOUBLE_EQ(core::load_run_options(on.child("run")).checkpoint_every_s, 0.02);
+  auto bad = ConfigNode::load_string("run: {duration_s: 5, load: dem, checkpoint_every_s: -1}\n");
+  auto msg = message_of([&] { core::load_run_options(bad.child("run")); });
+  EXPECT_NE(msg.find("run.checkpoint_every_s"), std::string::npos) << msg;
+}

@@ -78,3 +78,26 @@ TEST(Lockstep, SilentPeerTimesOutWithClearError) {
     EXPECT_NE(std::string(e.what()).find("step 1"), std::string::npos) << e.what();
   }
 }
+
+TEST(Lockstep, ResumedPairContinuesAtTheCheckpointStep) {
+  Leader l({2.0, 0.5, 10.0});
+  Follower f;
+  l.resume_at(300);
+  f.resume_at(300);
+  auto s = l.request(0.0);
+  EXPECT_EQ(s, 300u);
+  EXPECT_NO_THROW(l.check_timeout(9.0));  // the peer loads its checkpoint: the first-answer limit
+  EXPECT_EQ(f.on_request(299), Follower::Action::Resend);  // a stale request from before the stop
+  EXPECT_EQ(f.on_request(s), Follower::Action::Advance);
+  f.answered(s);
+  EXPECT_TRUE(l.answer(s, 9.5));
+  EXPECT_EQ(l.completed(), 301u);
+  l.request(10.0);
+  EXPECT_THROW(l.check_timeout(12.5), ProtocolError);  // then the running limit
+  EXPECT_THROW(f.on_request(302), ProtocolError);      // a gap after a resume is still an error
+  Leader late;
+  late.request(0.0);
+  EXPECT_THROW(late.resume_at(5), ProtocolError);  // only before the first request
+  Follower g;
+  EXPECT_THROW(g.resume_at(0), ProtocolError);
+}

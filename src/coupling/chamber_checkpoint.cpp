@@ -1,0 +1,94 @@
+// ChamberDem checkpoints: the chamber's own bookkeeping around dem::World's state (core/binary_io.hpp).
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "coupling/chamber_dem.hpp"
+
+namespace coupling {
+
+namespace {
+
+// What fixes the meaning of the particle state: a file from another feed or metaparticle set would load
+// but describe other rocks.
+std::vector<double> fingerprint(const ChamberDem& d) {
+  std::vector<double> f{static_cast<double>(d.rock_shapes()), d.params().dt_s, d.params().feed.rock_size_m,
+                        static_cast<double>(d.params().feed.seed), static_cast<double>(d.params().sieves_m.size())};
+  for (int s = 0; s < d.rock_shapes(); ++s) f.push_back(static_cast<double>(d.rock_particles(s)));
+  for (int s = 0; s < d.rock_shapes(); ++s) f.push_back(d.rock_mass_kg(s));
+  return f;
+}
+
+}  // namespace
+
+void ChamberDem::save_state(core::BinaryWriter& w) {
+  w.tag("CHMB");
+  w.put_vec(fingerprint(*this));
+  w.put<char>(prefilled_);
+  for (double v : {prefilled_kg_, deepest_liner_overlap_, next_bookkeeping_, feed_credit_kg_, fed_kg_, discharged_kg_,
+                   lost_kg_, force_window_s_, force_avg_.window()})
+    w.put(v);
+  w.put<int64_t>(fragments_out_);
+  w.put<int64_t>(broken_total_);
+  w.put_vec(screened_kg_);
+  std::vector<double> log;
+  for (const auto& [t, m] : discharge_log_) log.push_back(t), log.push_back(m);
+  w.put_vec(log);
+  w.put_vec(breaks_);
+  w.put_vec(tracked_ids_);
+  std::vector<uint64_t> track_id;
+  std::vector<double> track_tx;
+  for (const auto& p : tracks_) {
+    track_id.push_back(p.id);
+    track_tx.insert(track_tx.end(), {p.t, p.x.x(), p.x.y(), p.x.z()});
+  }
+  w.put_vec(track_id);
+  w.put_vec(track_tx);
+  w.put_vec(force_avg_.sums());
+  for (int k = 0; k < 3; ++k) w.put(concave_origin_[k]);
+  w.put_string(rng_.state());
+  world_->save_state(w);
+  w.tag("CEND");
+}
+
+void ChamberDem::load_state(core::BinaryReader& r) {
+  r.expect("CHMB");
+  std::vector<double> f;
+  r.get_vec(f, 1000);
+  if (f != fingerprint(*this))
+    r.fail("written for another feed (rock shapes, metaparticles, sieves or time step differ from this configuration)");
+  prefilled_ = r.get<char>() != 0;
+  for (double* v : {&prefilled_kg_, &deepest_liner_overlap_, &next_bookkeeping_, &feed_credit_kg_, &fed_kg_,
+                    &discharged_kg_, &lost_kg_, &force_window_s_})
+    r.get(*v);
+  const double map_window = r.get<double>();
+  fragments_out_ = r.get<int64_t>();
+  broken_total_ = r.get<int64_t>();
+  r.get_vec(screened_kg_);
+  if (screened_kg_.size() != p_.sieves_m.size() + 1) r.fail("sieve classes differ from this configuration");
+  std::vector<double> log;
+  r.get_vec(log);
+  if (log.size() % 2) r.fail("discharge log is corrupt");
+  discharge_log_.clear();
+  for (std::size_t k = 0; k < log.size(); k += 2) discharge_log_.emplace_back(log[k], log[k + 1]);
+  r.get_vec(breaks_);
+  r.get_vec(tracked_ids_);
+  std::vector<uint64_t> track_id;
+  std::vector<double> track_tx;
+  r.get_vec(track_id);
+  r.get_vec(track_tx);
+  if (track_tx.size() != 4 * track_id.size()) r.fail("trajectories are corrupt");
+  tracks_.clear();
+  for (std::size_t k = 0; k < track_id.size(); ++k)
+    tracks_.push_back({track_id[k], track_tx[4 * k], {track_tx[4 * k + 1], track_tx[4 * k + 2], track_tx[4 * k + 3]}});
+  std::vector<double> sums;
+  r.get_vec(sums);
+  if (sums.size() != static_cast<std::size_t>(p_.rings * p_.sectors)) r.fail("force-map regions differ");
+  force_avg_.restore(std::move(sums), map_window);
+  for (int k = 0; k < 3; ++k) r.get(concave_origin_[k]);
+  if (!rng_.set_state(r.get_string())) r.fail("random generator state is corrupt");
+  world_->load_state(r);
+  r.expect("CEND");
+}
+
+}  // namespace coupling

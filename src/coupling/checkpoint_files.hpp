@@ -1,0 +1,42 @@
+#pragma once
+// Where a coupled run keeps its checkpoints and bag segments, and how they are written (ROS-free).
+//   OUT/checkpoint/<node>.<step>.ckpt   state of one node at the start of coupling step <step> (mbd, dem);
+//                                       written to a .tmp file and renamed, the newest two of each node kept
+//   OUT/<base>.seg<NNNN>.bag            a node's bag from checkpoint NNNN (0: the start) to the next one
+// A run resumes at the newest step that both nodes wrote. Each file starts with a header naming the node,
+// the step and the simulated time.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/binary_io.hpp"
+
+namespace coupling {
+
+struct CheckpointHeader {
+  std::string node;  // "mbd" or "dem"
+  uint64_t step = 0;  // coupling step about to be taken
+  double time = 0;    // simulated time (s) at its start
+};
+
+std::string checkpoint_dir(const std::string& out);
+std::string checkpoint_path(const std::string& out, const std::string& node, uint64_t step);
+// Writes header + body atomically (.tmp then rename) and removes all but the newest `keep` of this node.
+void write_checkpoint(const std::string& out, const CheckpointHeader& h,
+                      const std::function<void(core::BinaryWriter&)>& body, int keep = 2);
+// Steps for which a checkpoint of `node` exists, ascending.
+std::vector<uint64_t> checkpoint_steps(const std::string& out, const std::string& node);
+// Newest step present for every node; nullopt when there is none.
+std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const std::vector<std::string>& nodes);
+// Opens the checkpoint of `node` at `step`, checks its header and calls `body` with a reader positioned after it.
+// Throws std::runtime_error naming the file on any mismatch. Returns the header.
+CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,
+                                 const std::function<void(core::BinaryReader&)>& body);
+
+std::string bag_segment_path(const std::string& out, const std::string& base, int index);
+// Removes the segments of `base` with index >= first (written after the checkpoint a run resumes from).
+void remove_bag_segments_from(const std::string& out, const std::string& base, int first);
+
+}  // namespace coupling

@@ -1,0 +1,167 @@
+// ChamberDem checkpoints: a run restored from a checkpoint continues exactly as the run that wrote it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "coupling/chamber_dem.hpp"
+
+namespace {
+
+// The 1:4 chamber of test_chamber_dem.cpp, pre-filled so that rock presses on the liners from the start,
+// with choke feeding on top (new rocks draw on the random generator after the checkpoint).
+coupling::ChamberParams small_filled_chamber() {
+  coupling::ChamberParams p;
+  p.chamber.mantle.z = {-0.05, -0.20};
+  p.chamber.mantle.r = {0.045, 0.150};
+  p.chamber.concave.z = {-0.02, -0.21};
+  p.chamber.concave.r = {0.080, 0.175};
+  p.mantle_com_z_m = -0.30;
+  p.concave_com_z_m = -0.10;
+  p.liner_sectors = 36;
+  p.threads = 2;
+  p.feed.rock_size_m = 0.03;
+  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
+  p.feed.choke_height_m = 0.03;
+  p.bpm.packing.density = 0.45;
+  p.feed.prefill = true;
+  p.feed.prefill_max_kg = 0.4;
+  p.feed.max_fed_kg = 0.8;
+  p.feed.max_rate_kg_s = 4.0;  // a rock every few ms: feeding goes on across the checkpoint
+  p.feed.drop_speed_m_s = 3.0;
+  p.bpm.bond.kn = 40e9;
+  p.bpm.bond.kt = 16e9;
+  p.bpm.bond.sigma_c = 2.5e6;  // a tenth of Table 4: bonds break within the short run
+  p.bpm.bond.tau_c = 0.9e6;
+  p.bpm.bond.disk_radius = 3.2e-3;
+  p.bpm.bond.reference_radius = 4e-3;
+  p.discharge_below_m = 0.02;
+  p.bookkeeping_s = 2e-3;
+  return p;
+}
+
+// The mantle gyrating (axis tilted 2 deg, precessing at 10 Hz), the concave still.
+void gyrate(const coupling::ChamberParams& p, double t, coupling::BodyMotion* m) {
+  const double w = 2 * M_PI * 10, tilt = 2.0 * M_PI / 180;
+  Eigen::Vector3d axis(std::sin(tilt) * std::cos(w * t), std::sin(tilt) * std::sin(w * t), std::cos(tilt));
+  m->orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis);
+  Eigen::Vector3d axis_dot(-std::sin(tilt) * w * std::sin(w * t), std::sin(tilt) * w * std::cos(w * t), 0);
+  m->angular_velocity = axis.cross(axis_dot);
+  m->com = m->orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
+  m->velocity = m->angular_velocity.cross(m->com);
+}
+
+struct Record {  // what a run produces, step by step
+  std::vector<double> wrench;  // mantle and concave force and torque per step
+  std::vector<double> map;     // concave force map at the end
+  std::vector<dem::BondBreak> breaks;
+};
+
+void run_steps(coupling::ChamberDem& dem, const coupling::ChamberParams& p, int from, int to, Record* rec) {
+  coupling::BodyMotion m, c;
+  c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
+  for (int k = from; k < to; ++k) {
+    gyrate(p, k * 1e-3, &m);
+    auto [wm, wc] = dem.advance(m, c, 1e-3);
+    for (const auto* v : {&wm.force, &wm.torque, &wc.force, &wc.torque})
+      rec->wrench.insert(rec->wrench.end(), v->data(), v->data() + 3);
+  }
+  rec->map = dem.force_map();
+  auto b = dem.take_breaks();
+  rec->breaks.insert(rec->breaks.end(), b.begin(), b.end());
+}
+
+void expect_same_particles(const dem::Particles& a, const dem::Particles& b) {
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.id, b.id);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_TRUE(a.x[i] == b.x[i] && a.y[i] == b.y[i] && a.z[i] == b.z[i]) << "position of particle " << a.id[i];
+    ASSERT_TRUE(a.vx[i] == b.vx[i] && a.vy[i] == b.vy[i] && a.vz[i] == b.vz[i]) << "velocity of " << a.id[i];
+    ASSERT_TRUE(a.wx[i] == b.wx[i] && a.wy[i] == b.wy[i] && a.wz[i] == b.wz[i]) << "spin of " << a.id[i];
+  }
+}
+
+}  // namespace
+
+TEST(ChamberCheckpoint, RestoredRunContinuesBitForBit) {
+  const auto p = small_filled_chamber();
+  coupling::ChamberDem a(p);
+  Record before;
+  run_steps(a, p, 0, 40, &before);
+  ASSERT_GT(a.world().particles().size(), 100u);
+  std::stringstream file;
+  {
+    core::BinaryWriter w(file);
+    a.save_state(w);
+  }
+  const double t_saved = a.time(), fed_saved = a.product().fed_kg;
+  Record ra, rb;
+  run_steps(a, p, 40, 80, &ra);
+
+  auto q = p;
+  q.threads = 1;  // results do not depend on the thread count
+  coupling::ChamberDem b(q);
+  core::BinaryReader r(file, "in memory");
+  b.load_state(r);
+  EXPECT_EQ(b.time(), t_saved);
+  run_steps(b, p, 40, 80, &rb);
+
+  // The state restored is the whole state: the run continues as if never stopped.
+  EXPECT_EQ(ra.wrench, rb.wrench);
+  EXPECT_EQ(ra.map, rb.map);
+  ASSERT_EQ(ra.breaks.size(), rb.breaks.size());
+  for (std::size_t k = 0; k < ra.breaks.size(); ++k) {
+    EXPECT_EQ(ra.breaks[k].t, rb.breaks[k].t);
+    EXPECT_EQ(ra.breaks[k].id_i, rb.breaks[k].id_i);
+    EXPECT_EQ(ra.breaks[k].id_j, rb.breaks[k].id_j);
+  }
+  expect_same_particles(a.world().particles(), b.world().particles());
+  const auto pa = a.product(), pb = b.product();
+  EXPECT_EQ(pa.fed_kg, pb.fed_kg);
+  EXPECT_EQ(pa.discharged_kg, pb.discharged_kg);
+  EXPECT_EQ(pa.passing_pct, pb.passing_pct);
+  EXPECT_EQ(a.broken_bonds(), b.broken_bonds());
+  EXPECT_EQ(a.trajectories().size(), b.trajectories().size());
+  // The test means something: rock was crushed against the liners, fed and broken around the checkpoint.
+  double fmax = 0;
+  for (double f : ra.wrench) fmax = std::max(fmax, std::abs(f));
+  EXPECT_GT(fmax, 1.0);
+  EXPECT_GT(fed_saved, a.prefilled_kg());
+  EXPECT_GT(pa.fed_kg, fed_saved);
+  EXPECT_GT(ra.breaks.size(), 0u);
+  std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it\n", file.str().size(),
+              a.world().particles().size(), a.world().bonds().size(), ra.breaks.size());
+}
+
+TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
+  const auto p = small_filled_chamber();
+  coupling::ChamberDem a(p);
+  Record rec;
+  run_steps(a, p, 0, 2, &rec);
+  std::stringstream file;
+  core::BinaryWriter w(file);
+  a.save_state(w);
+  const std::string bytes = file.str();
+
+  auto other = p;
+  other.feed.seed = p.feed.seed + 1;  // other rock shapes
+  coupling::ChamberDem b(other);
+  std::istringstream in1(bytes);
+  core::BinaryReader r1(in1, "x.ckpt");
+  try {
+    b.load_state(r1);
+    FAIL() << "a checkpoint of another feed was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("another feed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("x.ckpt"), std::string::npos) << e.what();
+  }
+  coupling::ChamberDem c(p);
+  std::istringstream in2(bytes.substr(0, bytes.size() / 2));
+  core::BinaryReader r2(in2, "half.ckpt");
+  try {
+    c.load_state(r2);
+    FAIL() << "a truncated checkpoint was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+}
