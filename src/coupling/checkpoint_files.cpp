@@ -103,18 +103,18 @@ CheckpointHeader read_checkpoint(const std::string& out, const std::string& node
   return h;
 }
 
-std::string bag_segment_path(const std::string& out, const std::string& base, int index) {
-  char num[16];
-  std::snprintf(num, sizeof num, "%04d", index);
+std::string bag_segment_path(const std::string& out, const std::string& base, uint64_t step) {
+  char num[32];
+  std::snprintf(num, sizeof num, "%010llu", static_cast<unsigned long long>(step));
   return out + "/" + base + ".seg" + num + ".bag";
 }
 
-void remove_bag_segments_from(const std::string& out, const std::string& base, int first) {
+void remove_bag_segments_from(const std::string& out, const std::string& base, uint64_t first) {
   std::error_code ec;
   std::vector<fs::path> doomed;
   for (const auto& e : fs::directory_iterator(out, ec)) {
     auto n = number_in(e.path().filename().string(), base + ".seg", ".bag");
-    if (n && static_cast<int>(*n) >= first) doomed.push_back(e.path());
+    if (n && *n >= first) doomed.push_back(e.path());
   }
   for (const auto& p : doomed) fs::remove(p);
 }

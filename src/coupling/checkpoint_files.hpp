@@ -2,7 +2,7 @@
 // Where a coupled run keeps its checkpoints and bag segments, and how they are written (ROS-free).
 //   OUT/checkpoint/<node>.<step>.ckpt   state of one node at the start of coupling step <step> (mbd, dem);
 //                                       written to a .tmp file and renamed, the newest two of each node kept
-//   OUT/<base>.seg<NNNN>.bag            a node's bag from checkpoint NNNN (0: the start) to the next one
+//   OUT/<base>.seg<step>.bag            a node's bag from the checkpoint at <step> (0: the start) to the next one
 // A run resumes at the newest step that both nodes wrote. Each file starts with a header naming the node,
 // the step and the simulated time.
 #include <cstdint>
@@ -35,8 +35,8 @@ std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const s
 CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,
                                  const std::function<void(core::BinaryReader&)>& body);
 
-std::string bag_segment_path(const std::string& out, const std::string& base, int index);
-// Removes the segments of `base` with index >= first (written after the checkpoint a run resumes from).
-void remove_bag_segments_from(const std::string& out, const std::string& base, int first);
+std::string bag_segment_path(const std::string& out, const std::string& base, uint64_t step);
+// Removes the segments of `base` starting at step >= first (written after the checkpoint a run resumes from).
+void remove_bag_segments_from(const std::string& out, const std::string& base, uint64_t first);
 
 }  // namespace coupling
