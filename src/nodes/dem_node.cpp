@@ -152,7 +152,9 @@ class DemNode {
     } catch (const std::exception& e) {
       ROS_ERROR("dem_node: %s; the bag and the break log are kept", e.what());
       status = 1;
+      tell_leader(e.what());
     }
+    if (!finished_ && status == 0) tell_leader("stopped by a signal");
     publish_outputs(true);
     bag_.close();
     write_trajectories();
@@ -396,6 +398,17 @@ class DemNode {
       arr.markers.push_back(m);
     }
     return arr;
+  }
+
+  // mbd_node waits for each answer: tell it the run is over instead of leaving it to time out.
+  void tell_leader(const std::string& why) {
+    inertia_crusher::GeometryWrench w;
+    w.header.stamp = ros::Time(dem_->time());
+    w.stopped = why;
+    for (int i = 0; i < 5; ++i) {
+      pub_wrench_.publish(w);
+      ros::WallDuration(0.05).sleep();
+    }
   }
 
   // ---- checkpoints: the DEM state at the start of coupling step k, with what this node adds to it

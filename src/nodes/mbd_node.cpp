@@ -179,6 +179,7 @@ class MbdNode {
       if (!leader_.pending()) break;
       const double now = nodes::wall_now();
       if (nodes::stop_requested() || !ros::ok()) throw std::runtime_error("stopped while waiting for dem_node");
+      if (!peer_stopped_.empty()) throw std::runtime_error("dem_node has stopped: " + peer_stopped_);
       leader_.check_timeout(now);
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
       ros::WallDuration(2e-5).sleep();
@@ -207,6 +208,10 @@ class MbdNode {
   }
 
   void on_wrench(const inertia_crusher::GeometryWrench::ConstPtr& w) {
+    if (!w->stopped.empty()) {
+      peer_stopped_ = w->stopped;
+      return;
+    }
     if (!leader_.answer(w->step, nodes::wall_now())) return;  // a duplicate of an answered step
     wrench_.mantle_force = nodes::from_msg(w->mantle.force);
     wrench_.mantle_torque = nodes::from_msg(w->mantle.torque);
@@ -394,6 +399,7 @@ class MbdNode {
   analysis::RunSignals sig_;
   std::optional<analysis::ProductSummary> product_;
   std::uint64_t last_recorded_step_ = ~0ull;
+  std::string peer_stopped_;  // dem_node's reason, when it has stopped
   double wall_s_ = 0;
   struct {
     Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();
