@@ -118,6 +118,7 @@ std::string to_json(const RunSummary& s) {
     if (tph > 0) o << s.power_kW.mean / tph; else o << "null";
     o << ",\n  \"mass_discharged_kg\": " << p.mass_discharged_kg << ",\n";
     o << "  \"mass_lost_kg\": " << p.mass_lost_kg << ",\n";
+    o << "  \"mass_crushed_kg\": " << p.mass_crushed_kg << ",\n";
     o << "  \"psd\": {\"sieve_mm\": ";
     json_array(o, p.sieve_mm);
     o << ", \"passing_pct\": ";

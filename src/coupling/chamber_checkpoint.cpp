@@ -30,6 +30,8 @@ void ChamberDem::save_state(core::BinaryWriter& w) {
     w.put(v);
   w.put<int64_t>(fragments_out_);
   w.put<int64_t>(broken_total_);
+  w.put(crushed_kg_);
+  w.put<int64_t>(crushed_count_);
   w.put_vec(screened_kg_);
   std::vector<double> log;
   for (const auto& [t, m] : discharge_log_) log.push_back(t), log.push_back(m);
@@ -64,6 +66,8 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   const double map_window = r.get<double>();
   fragments_out_ = r.get<int64_t>();
   broken_total_ = r.get<int64_t>();
+  r.get(crushed_kg_);
+  crushed_count_ = r.get<int64_t>();
   r.get_vec(screened_kg_);
   if (screened_kg_.size() != p_.sieves_m.size() + 1) r.fail("sieve classes differ from this configuration");
   std::vector<double> log;

@@ -166,6 +166,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     }
     force_avg_.add(concave_->region_normal_force(), h);
     force_window_s_ += h;
+    if (p_.crushing.enabled) crush_squeezed();
     if (world_->time() >= next_bookkeeping_ - 1e-12) {
       bookkeeping();
       next_bookkeeping_ = world_->time() + p_.bookkeeping_s;
@@ -364,6 +365,27 @@ void ChamberDem::discharge() {
   if (!remove.empty()) world_->remove_particles_by_id(remove);
 }
 
+// Metaparticles pressed against a liner beyond their strength leave as fines (metaparticle_crushing.hpp).
+void ChamberDem::crush_squeezed() {
+  const auto& P = world_->particles();
+  const auto idx = crushed_particles(P, {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()},
+                                     p_.crushing.tensile_strength);
+  if (idx.empty()) return;
+  std::vector<char> remove(P.size(), 0);
+  double mass = 0;
+  for (std::size_t i : idx) {
+    remove[i] = 1;
+    const auto cls = progeny_by_class(P.m[i], 2.0 * P.r[i], p_.sieves_m, p_.crushing.progeny_exponent);
+    for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
+    mass += P.m[i];
+  }
+  discharged_kg_ += mass;
+  crushed_kg_ += mass;
+  crushed_count_ += static_cast<long>(idx.size());
+  discharge_log_.emplace_back(world_->time(), mass);
+  world_->remove_particles(remove);
+}
+
 ProductState ChamberDem::product() const {
   ProductState s;
   s.sieve_m = p_.sieves_m;
@@ -379,6 +401,8 @@ ProductState ChamberDem::product() const {
   s.fed_kg = fed_kg_;
   s.discharged_kg = discharged_kg_;
   s.lost_kg = lost_kg_;
+  s.crushed_kg = crushed_kg_;
+  s.metaparticles_crushed = crushed_count_;
   const auto& P = world_->particles();
   for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
   const double t = world_->time(), w = std::min(p_.throughput_window_s, t);

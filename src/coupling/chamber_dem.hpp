@@ -36,6 +36,8 @@ struct BodyWrench {  // about the body's centre of mass, world frame
 struct ProductState {
   std::vector<double> sieve_m, passing_pct;  // cumulative mass passing, ascending sieves
   double fed_kg = 0, discharged_kg = 0, in_chamber_kg = 0, lost_kg = 0;
+  double crushed_kg = 0;  // part of discharged_kg: metaparticles crushed to fines (metaparticle_crushing.hpp)
+  long metaparticles_crushed = 0;
   double throughput_kg_s = 0;  // discharged mass rate over the last window
   long fragments_discharged = 0;
 };
@@ -97,6 +99,7 @@ class ChamberDem {
   void bookkeeping();
   void feed();
   void discharge();
+  void crush_squeezed();
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   void add_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q, const Eigen::Vector3d& v);
   void prefill();
@@ -117,8 +120,8 @@ class ChamberDem {
   double deepest_liner_overlap_ = 0;
   double dt_max_ = 0;
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
-  double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0;
-  long fragments_out_ = 0, broken_total_ = 0;
+  double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0, crushed_kg_ = 0;
+  long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])
   std::vector<std::pair<double, double>> discharge_log_;  // (time, mass) for the throughput window
   std::vector<dem::BondBreak> breaks_;

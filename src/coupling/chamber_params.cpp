@@ -27,6 +27,14 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
   p.throughput_window_s = dem.number_or("throughput_window_s", p.throughput_window_s, 0.01, 100, "s");
   p.tracked_particles = dem.integer_or("tracked_particles", p.tracked_particles, 0, 100);
 
+  if (dem.has("crushing")) {  // metaparticle crushing (coupling/metaparticle_crushing.hpp)
+    auto c = dem.child("crushing");
+    p.crushing.enabled = c.boolean_or("enabled", true);
+    p.crushing.tensile_strength =
+        c.number_or("tensile_strength_MPa", p.crushing.tensile_strength / 1e6, 0.01, 1000, "MPa", 1e6);
+    p.crushing.progeny_exponent = c.number_or("progeny_exponent", p.crushing.progeny_exponent, 0.1, 5, "");
+  }
+
   auto f = dem.child("feed");
   p.feed.shapes = f.integer_or("shapes", p.feed.shapes, 1, 16);
   p.feed.rock_size_m = f.number("rock_size_mm", 5, 300, "mm", u::mm);

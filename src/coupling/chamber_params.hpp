@@ -8,6 +8,7 @@
 
 #include "core/chamber_geometry.hpp"
 #include "core/config.hpp"
+#include "coupling/metaparticle_crushing.hpp"
 #include "rocks/bpm_config.hpp"
 
 namespace coupling {
@@ -43,6 +44,7 @@ struct ChamberParams {
   double bookkeeping_s = 2e-3;        // feed / discharge / fragment update interval
   double throughput_window_s = 0.5;   // discharged-mass rate averaged over this window
   int tracked_particles = 4;          // trajectories of a few particles (section 4.2.2)
+  CrushingParams crushing;            // metaparticles crushed to fines against the liners (off: the paper's model)
 };
 
 // Reads the `dem:` mapping; `chamber` and the COM heights come from the mechanism parameters.

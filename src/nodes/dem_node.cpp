@@ -159,9 +159,10 @@ class DemNode {
     bag_.close();
     write_trajectories();
     const auto p = dem_->product();
-    ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg, "
-             "%.1f %% of the wall time in coupling waits", dem_->time(), dem_->world().particles().size(),
-             dem_->broken_bonds(), p.fed_kg, p.discharged_kg, 100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
+    ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg "
+             "(%.2f kg of it %ld metaparticles crushed to fines), %.1f %% of the wall time in coupling waits",
+             dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
+             p.crushed_kg, p.metaparticles_crushed, 100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
     return status;
   }
 
@@ -234,8 +235,8 @@ class DemNode {
     const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_;
     const auto p = dem_->product();
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %.0f s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg", t, T, 100.0 * t / T, t > 0 ? el * (T - t) / t : 0.0,
-             dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg);
+             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, t > 0 ? el * (T - t) / t : 0.0,
+             dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
       ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners: metaparticles too coarse for the "
@@ -258,6 +259,7 @@ class DemNode {
     ps.mass_fed_kg = p.fed_kg;
     ps.mass_in_chamber_kg = p.in_chamber_kg;
     ps.mass_lost_kg = p.lost_kg;
+    ps.mass_crushed_kg = p.crushed_kg;
     pub_product_.publish(ps);
     bag_.write("/crusher/product", stamp, ps);
     // Concave force map (mean over the window since the last output).

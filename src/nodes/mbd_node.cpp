@@ -226,6 +226,7 @@ class MbdNode {
     s.throughput_tph = p->throughput_tph;
     s.mass_discharged_kg = p->mass_discharged_kg;
     s.mass_lost_kg = p->mass_lost_kg;
+    s.mass_crushed_kg = p->mass_crushed_kg;
     s.sieve_mm = p->sieve_mm;
     s.passing_pct = p->passing_pct;
     product_ = s;

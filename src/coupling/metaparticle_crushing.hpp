@@ -1,0 +1,41 @@
+#pragma once
+// Crushing of single metaparticles (an extension beyond the paper, off unless dem.crushing.enabled).
+// A bonded-particle rock breaks into its metaparticles; a metaparticle itself is a rigid sphere that cannot
+// break (the paper, section 4.1.3: "the minimum size limit of the metaparticles makes it impossible to acquire
+// the product size below that level"). At the closed side of a running crusher the liners come closer than a
+// coarse metaparticle is wide, and the inertia crusher's mantle presses with ~200 kN: an unbreakable sphere is
+// then squeezed deep into the liner and its neighbours (forces and power inflated, and eventually a blow-up).
+// Here a metaparticle whose contact with a liner carries more than its crushing strength breaks into fines:
+//   F_c = pi d^2 sigma_t / 2.8   (point-load strength of an irregular lump, Hiramatsu & Oka 1966,
+//                                 with the rock's tensile strength sigma_t, e.g. the Brazilian 3.77 MPa, Eq. 26)
+// The fines are far smaller than the setting and pass straight through: the sphere leaves the DEM and its
+// mass joins the product with a Gaudin-Schuhmann progeny distribution below its size d:
+//   passing(x) = (x / d)^n  for x < d.
+#include <cstddef>
+#include <vector>
+
+#include "dem/mesh_contact.hpp"
+#include "dem/particles.hpp"
+
+namespace coupling {
+
+struct CrushingParams {
+  bool enabled = false;
+  double tensile_strength = 3.77e6;  // Pa, sigma_t of the rock (Brazilian test, Eq. 26)
+  double progeny_exponent = 1.0;     // n of the Gaudin-Schuhmann progeny distribution
+};
+
+// F_c of a sphere of diameter d (N).
+double crushing_force(double d, double tensile_strength);
+
+// Indices (ascending, unique) of the particles pressed against one of the meshes harder than their F_c
+// in the meshes' last step.
+std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
+                                           double tensile_strength);
+
+// A crushed sphere's mass split over the sieve classes of ascending `sieves` (m): entry k holds the mass between
+// sieves[k-1] and sieves[k] (entry 0: below sieves[0]); the last entry (index sieves.size()) holds what is above
+// the largest sieve. Sums to `mass`.
+std::vector<double> progeny_by_class(double mass, double d, const std::vector<double>& sieves, double exponent);
+
+}  // namespace coupling

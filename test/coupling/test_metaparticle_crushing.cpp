@@ -1,0 +1,153 @@
+// Metaparticle crushing (coupling/metaparticle_crushing.hpp): strength, progeny, and in a chamber.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include "coupling/chamber_dem.hpp"
+#include "coupling/metaparticle_crushing.hpp"
+#include "dem/world.hpp"
+
+namespace {
+
+std::shared_ptr<dem::MeshContact> plate(const dem::World& w, double z, const std::string& name) {
+  auto m = std::make_shared<dem::MeshContact>(
+      dem::TriMesh({{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {0.1, 0.1, 0}, {-0.1, 0.1, 0}}, {{0, 1, 2}, {0, 2, 3}}, name),
+      w.materials(), 1);
+  dem::Pose p;
+  p.position = Eigen::Vector3d(0, 0, z);
+  m->set_pose(p);
+  return m;
+}
+
+}  // namespace
+
+TEST(MetaparticleCrushing, PointLoadStrengthOfHiramatsuOka) {
+  // F_c = pi d^2 sigma_t / 2.8: a 12 mm lump of the paper's marble (sigma_t 3.77 MPa) holds 609 N.
+  EXPECT_NEAR(coupling::crushing_force(12e-3, 3.77e6), 609.1, 0.1);
+  EXPECT_NEAR(coupling::crushing_force(24e-3, 3.77e6) / coupling::crushing_force(12e-3, 3.77e6), 4.0, 1e-12);
+}
+
+TEST(MetaparticleCrushing, ProgenyFollowsGaudinSchuhmannBelowTheParentSize) {
+  const std::vector<double> sieves{1e-3, 2e-3, 4e-3, 8e-3, 12e-3, 16e-3};
+  const auto c = coupling::progeny_by_class(3.0, 10e-3, sieves, 1.0);
+  ASSERT_EQ(c.size(), sieves.size() + 1);
+  EXPECT_NEAR(std::accumulate(c.begin(), c.end(), 0.0), 3.0, 1e-12);
+  EXPECT_NEAR(c[0], 3.0 * 0.1, 1e-12);          // passing 1 mm: (1/10)^1
+  EXPECT_NEAR(c[3], 3.0 * (0.8 - 0.4), 1e-12);  // 4-8 mm
+  EXPECT_NEAR(c[4], 3.0 * (1.0 - 0.8), 1e-12);  // 8-12 mm holds the rest up to the parent's 10 mm
+  EXPECT_EQ(c[5], 0.0);
+  EXPECT_EQ(c[6], 0.0);
+  const auto sq = coupling::progeny_by_class(1.0, 10e-3, sieves, 2.0);
+  EXPECT_NEAR(sq[0], 0.01, 1e-12);  // exponent 2: finer end thinner
+}
+
+// A sphere pressed between two steel plates breaks when the contact force reaches F_c, i.e. at the Hertz
+// overlap delta_c = (F_c / (4/3 E* sqrt(r)))^(2/3) on each side (Eq. 16 integrated), not earlier or later.
+TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
+  dem::WorldParams wp;
+  wp.dt = 1e-6;
+  dem::World w(wp);
+  const double r = 6e-3, sigma = 3.77e6, v = 0.02;
+  auto floor = plate(w, 0.0, "floor"), ceiling = plate(w, 2 * r + 1e-5, "ceiling");
+  w.add_interaction(floor);
+  w.add_interaction(ceiling);
+  const double x[3] = {0, 0, r};
+  w.add_particle(x, r, 0);
+  dem::Twist down;
+  down.linear = Eigen::Vector3d(0, 0, -v);
+  ceiling->set_twist(down);
+  double z_ceiling = 2 * r + 1e-5, force_before = 0;
+  long steps = 0;
+  for (; steps < 200000; ++steps) {
+    z_ceiling -= v * wp.dt;
+    dem::Pose p;
+    p.position = Eigen::Vector3d(0, 0, z_ceiling);
+    ceiling->set_pose(p);
+    w.step(1);
+    if (!coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, sigma).empty()) break;
+    for (const auto& c : ceiling->contacts()) force_before = std::max(force_before, c.normal_force);
+  }
+  ASSERT_LT(steps, 200000) << "never crushed";
+  const double Fc = coupling::crushing_force(2 * r, sigma);
+  const auto& m = w.materials();
+  const double E_star = m.pair(0, 1).E_star;
+  const double delta_c = std::pow(Fc / (4.0 / 3.0 * E_star * std::sqrt(r)), 2.0 / 3.0);
+  const double closure = 2 * r - (z_ceiling - 0.0);  // both contacts' overlaps
+  std::printf("crushed at closure %.4g m (2 delta_c = %.4g m), F before %.1f N, F_c %.1f N\n", closure, 2 * delta_c,
+              force_before, Fc);
+  EXPECT_NEAR(closure, 2 * delta_c, 0.03 * 2 * delta_c);
+  EXPECT_LE(force_before, Fc);
+  EXPECT_GT(force_before, 0.98 * Fc);
+}
+
+// In a chamber, crushed metaparticles leave as product fines: the mass balance still closes, the product's
+// fine end is the progeny's, and no metaparticle stays pressed into a liner beyond its strength.
+TEST(MetaparticleCrushing, ChamberKeepsItsMassBalanceAndScreensTheFines) {
+  coupling::ChamberParams p;
+  p.chamber.mantle.z = {-0.05, -0.20};
+  p.chamber.mantle.r = {0.045, 0.150};
+  p.chamber.concave.z = {-0.02, -0.21};
+  p.chamber.concave.r = {0.080, 0.175};
+  p.mantle_com_z_m = -0.30;
+  p.concave_com_z_m = -0.10;
+  p.liner_sectors = 36;
+  p.threads = 2;
+  p.feed.rock_size_m = 0.03;
+  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
+  p.feed.choke_height_m = 0.03;
+  p.bpm.packing.density = 0.45;
+  p.feed.prefill = true;
+  p.feed.prefill_max_kg = 0.5;
+  p.feed.max_fed_kg = 0.5;
+  p.bpm.bond.kn = 40e9;
+  p.bpm.bond.kt = 16e9;
+  p.bpm.bond.sigma_c = 25e6;
+  p.bpm.bond.tau_c = 9e6;
+  p.bpm.bond.disk_radius = 3.2e-3;
+  p.bpm.bond.reference_radius = 4e-3;
+  p.discharge_below_m = 0.02;
+  p.crushing.enabled = true;
+  p.crushing.tensile_strength = 0.5e6;  // weaker than marble: F_c(8 mm) = 36 N, the 3 deg gyration crushes some
+  auto run = [&](coupling::ChamberDem& dem) {
+    coupling::BodyMotion m, c;
+    c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
+    const double w = 2 * M_PI * 10, tilt = 3.0 * M_PI / 180;
+    for (int k = 0; k < 120; ++k) {
+      const double t = k * 1e-3;
+      Eigen::Vector3d axis(std::sin(tilt) * std::cos(w * t), std::sin(tilt) * std::sin(w * t), std::cos(tilt));
+      m.orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis);
+      Eigen::Vector3d axis_dot(-std::sin(tilt) * w * std::sin(w * t), std::sin(tilt) * w * std::cos(w * t), 0);
+      m.angular_velocity = axis.cross(axis_dot);
+      m.com = m.orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
+      m.velocity = m.angular_velocity.cross(m.com);
+      dem.advance(m, c, 1e-3);
+    }
+  };
+  coupling::ChamberDem dem(p);
+  run(dem);
+  auto q = p;
+  q.crushing.enabled = false;
+  coupling::ChamberDem uncrushed(q);
+  run(uncrushed);
+  // No sphere is pressed into a liner deeper than its strength allows: F_c = 4/3 E* sqrt(r) delta^1.5 gives
+  // delta_c / r = (3 pi sigma_t / (2.8 E*))^(2/3), the same for every size (rock on steel).
+  const double E_star = dem.world().materials().pair(0, 1).E_star;
+  const double delta_c = std::pow(3 * M_PI * p.crushing.tensile_strength / (2.8 * E_star), 2.0 / 3.0);
+  std::printf("deepest liner overlap %.5f r with crushing (delta_c %.5f r), %.5f r without\n",
+              dem.deepest_liner_overlap(), delta_c, uncrushed.deepest_liner_overlap());
+  EXPECT_LE(dem.deepest_liner_overlap(), 1.5 * delta_c);  // plus at most one DEM step of approach
+  EXPECT_GT(uncrushed.deepest_liner_overlap(), 3 * delta_c);
+  const auto s = dem.product();
+  std::printf("crushed %ld metaparticles, %.4f kg; discharged %.4f kg; passing 1 mm %.1f %%\n",
+              s.metaparticles_crushed, s.crushed_kg, s.discharged_kg, s.passing_pct[0]);
+  ASSERT_GT(s.metaparticles_crushed, 0);
+  EXPECT_LE(s.crushed_kg, s.discharged_kg + 1e-15);
+  EXPECT_NEAR(s.fed_kg, s.in_chamber_kg + s.discharged_kg + s.lost_kg, 1e-9 * s.fed_kg);
+  // Nothing but the fines can pass 4 mm here (the smallest sphere is 7.2 mm wide): passing 1 mm is the
+  // crushed mass times the progeny's 1 mm share, (1 mm / d)^1, over the discharge.
+  EXPECT_GT(s.passing_pct[0], 0.0);
+  EXPECT_LE(s.passing_pct[0], 100.0 * s.crushed_kg / s.discharged_kg * (1e-3 / 7.2e-3) + 1e-9);
+  EXPECT_GE(s.passing_pct[0], 100.0 * s.crushed_kg / s.discharged_kg * (1e-3 / 8.8e-3) - 1e-9);
+}
