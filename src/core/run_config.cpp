@@ -14,7 +14,18 @@ RunOptions load_run_options(const ConfigNode& run) {
   if (o.settle_s >= o.duration_s && o.duration_s > 0.5) {
     run.fail("settle_s", "must be shorter than run.duration_s (" + std::to_string(o.duration_s) + " s)");
   }
+  if (run.has("coupled")) {
+    auto c = run.child("coupled");
+    o.coupled_warm_start_s = c.number_or("warm_start_s", -1, 0, 600, "s");
+    o.coupled_settle_s = c.number_or("settle_s", -1, 0, 3600, "s");
+  }
   return o;
+}
+
+void apply_coupled_overrides(RunOptions& o) {
+  if (o.load != "dem") return;
+  if (o.coupled_warm_start_s >= 0) o.warm_start_s = o.coupled_warm_start_s;
+  if (o.coupled_settle_s >= 0) o.settle_s = o.coupled_settle_s;
 }
 
 CouplingOptions load_coupling_options(const ConfigNode& c) {

@@ -14,6 +14,9 @@ struct RunOptions {
   double settle_s = 1.0;      // start-up transient excluded from summary.json
   double warm_start_s = 0.0;  // mechanism alone (idle for dem runs) before t = 0: starts at speed, frame settled
   double checkpoint_every_s = 0.0;  // coupled runs: save both nodes' state this often (simulated s; 0 = never)
+  // Optional `run.coupled:` mapping: warm_start_s / settle_s used instead of the above when the load is dem (a
+  // full-machine coupled run costs days per simulated second: it starts at speed and settles briefly).
+  double coupled_warm_start_s = -1, coupled_settle_s = -1;  // < 0: not given
 };
 
 struct CouplingOptions {
@@ -23,6 +26,8 @@ struct CouplingOptions {
 };
 
 RunOptions load_run_options(const ConfigNode& run);            // the `run:` mapping
+// After any override of `load`: a dem run takes run.coupled's warm_start_s and settle_s where given.
+void apply_coupled_overrides(RunOptions& o);
 CouplingOptions load_coupling_options(const ConfigNode& coupling);  // the `coupling:` mapping (may be empty)
 
 }  // namespace core

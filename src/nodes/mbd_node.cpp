@@ -60,6 +60,7 @@ Config load_config(const std::string& path, const std::string& load_override, do
     c.run.load = load_override;
   }
   if (duration_override > 0) c.run.duration_s = duration_override;
+  core::apply_coupled_overrides(c.run);
   mbd::validate(c.mech);
   return c;
 }
