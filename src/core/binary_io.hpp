@@ -31,6 +31,14 @@ class BinaryWriter {
     if (!v.empty()) os_.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(T)));
     if (!os_) throw std::runtime_error("checkpoint: write failed (disk full?)");
   }
+  // Three (or n) doubles of anything indexable: Eigen vectors, std::array, raw arrays.
+  template <class V>
+  void put_xyz(const V& v) {
+    for (int k = 0; k < 3; ++k) put<double>(v[k]);
+  }
+  void put_doubles(const double* v, int n) {
+    for (int k = 0; k < n; ++k) put<double>(v[k]);
+  }
   void put_string(const std::string& s) {
     put<uint64_t>(s.size());
     os_.write(s.data(), std::streamsize(s.size()));
@@ -61,8 +69,20 @@ class BinaryReader {
     static_assert(std::is_trivially_copyable<T>::value, "get_vec: trivially copyable elements only");
     const uint64_t n = get<uint64_t>();
     if (n > max_count) fail("implausible array length " + std::to_string(n));
+    const auto left = bytes_left();
+    if (left >= 0 && n * sizeof(T) > static_cast<uint64_t>(left))
+      fail("array of " + std::to_string(n) + " entries runs past the end of the file (truncated or corrupt)");
     v.resize(n);
     if (n) read(reinterpret_cast<char*>(v.data()), n * sizeof(T));
+  }
+  template <class V>
+  V get_xyz() {
+    V v;
+    for (int k = 0; k < 3; ++k) v[k] = get<double>();
+    return v;
+  }
+  void get_doubles(double* v, int n) {
+    for (int k = 0; k < n; ++k) v[k] = get<double>();
   }
   std::string get_string() {
     const uint64_t n = get<uint64_t>();
@@ -83,6 +103,15 @@ class BinaryReader {
     throw std::runtime_error("checkpoint " + what_ + ": " + msg);
   }
   const std::string& what() const { return what_; }
+  // Bytes from here to the end, or -1 when the stream cannot tell.
+  std::streamoff bytes_left() {
+    const auto here = is_.tellg();
+    if (here < 0) return -1;
+    is_.seekg(0, std::ios::end);
+    const auto end = is_.tellg();
+    is_.seekg(here);
+    return end < 0 ? -1 : std::streamoff(end - here);
+  }
 
  private:
   void read(char* p, uint64_t n) {

@@ -9,11 +9,21 @@ namespace coupling {
 
 namespace {
 
-// What fixes the meaning of the particle state: a file from another feed or metaparticle set would load
-// but describe other rocks.
+// What fixes the meaning of the saved state: the rocks (shapes, metaparticles, bonds), the liners, the
+// screening and the crushing law. The amounts fed and the duration may change (a resumed run may be extended).
 std::vector<double> fingerprint(const ChamberDem& d) {
-  std::vector<double> f{static_cast<double>(d.rock_shapes()), d.params().dt_s, d.params().feed.rock_size_m,
-                        static_cast<double>(d.params().feed.seed), static_cast<double>(d.params().sieves_m.size())};
+  const auto& p = d.params();
+  const auto& b = p.bpm.bond;
+  std::vector<double> f{static_cast<double>(d.rock_shapes()), p.dt_s, p.feed.rock_size_m,
+                        static_cast<double>(p.feed.seed), static_cast<double>(p.liner_sectors), p.discharge_below_m,
+                        p.bookkeeping_s, static_cast<double>(p.rings), static_cast<double>(p.sectors),
+                        b.kn, b.kt, b.sigma_c, b.tau_c, b.disk_radius, b.reference_radius, b.damping,
+                        p.crushing.enabled ? 1.0 : 0.0, p.crushing.tensile_strength, p.crushing.progeny_exponent};
+  for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
+                        &p.chamber.concave.r}) {
+    f.push_back(static_cast<double>(v->size()));
+    f.insert(f.end(), v->begin(), v->end());
+  }
   for (int s = 0; s < d.rock_shapes(); ++s) f.push_back(static_cast<double>(d.rock_particles(s)));
   for (int s = 0; s < d.rock_shapes(); ++s) f.push_back(d.rock_mass_kg(s));
   return f;
@@ -58,7 +68,8 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   std::vector<double> f;
   r.get_vec(f, 1000);
   if (f != fingerprint(*this))
-    r.fail("written for another feed (rock shapes, metaparticles, sieves or time step differ from this configuration)");
+    r.fail("written for another feed or chamber (rocks, bonds, liners, sieves, crushing or time step differ from "
+           "this configuration; only the amounts fed and the duration may change)");
   prefilled_ = r.get<char>() != 0;
   for (double* v : {&prefilled_kg_, &deepest_liner_overlap_, &next_bookkeeping_, &feed_credit_kg_, &fed_kg_,
                     &discharged_kg_, &lost_kg_, &force_window_s_})

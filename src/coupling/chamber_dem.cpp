@@ -186,6 +186,10 @@ void ChamberDem::bookkeeping() {
   world_->clear_breaks();
   discharge();
   feed();
+  // The throughput window is all the discharge log is for.
+  const double keep_from = world_->time() - p_.throughput_window_s;
+  auto old = std::find_if(discharge_log_.begin(), discharge_log_.end(), [&](const auto& e) { return e.first > keep_from; });
+  discharge_log_.erase(discharge_log_.begin(), old);
   if (tracked_ids_.empty() && world_->particles().size() > 0) {  // follow a few particles of the first rock
     for (int i = 0; i < p_.tracked_particles && i < static_cast<int>(world_->particles().size()); ++i)
       tracked_ids_.push_back(world_->particles().id[i * 7 % world_->particles().size()]);
@@ -372,9 +376,23 @@ void ChamberDem::crush_squeezed() {
                                      p_.crushing.tensile_strength);
   if (idx.empty()) return;
   std::vector<char> remove(P.size(), 0);
+  for (std::size_t i : idx) remove[i] = 1;
+  // Intact bonds of a crushed metaparticle go with it: logged as breaks of their own kind.
+  for (const auto& b : world_->bonds()) {
+    if (!b.alive || !(remove[b.i] || remove[b.j])) continue;
+    dem::BondBreak br;
+    br.t = world_->time();
+    br.x[0] = 0.5 * (P.x[b.i] + P.x[b.j]);
+    br.x[1] = 0.5 * (P.y[b.i] + P.y[b.j]);
+    br.x[2] = 0.5 * (P.z[b.i] + P.z[b.j]);
+    br.id_i = P.id[b.i];
+    br.id_j = P.id[b.j];
+    br.crushed = true;
+    breaks_.push_back(br);
+    ++broken_total_;
+  }
   double mass = 0;
   for (std::size_t i : idx) {
-    remove[i] = 1;
     const auto cls = progeny_by_class(P.m[i], 2.0 * P.r[i], p_.sieves_m, p_.crushing.progeny_exponent);
     for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
     mass += P.m[i];

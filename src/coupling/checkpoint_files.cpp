@@ -19,7 +19,8 @@ std::optional<uint64_t> number_in(const std::string& name, const std::string& pr
       name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
     return std::nullopt;
   const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-  if (digits.empty() || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
+  if (digits.empty() || digits.size() > 19 ||
+      !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }))
     return std::nullopt;
   return std::stoull(digits);
 }
@@ -61,8 +62,15 @@ void write_checkpoint(const std::string& out, const CheckpointHeader& h,
     if (!f) throw std::runtime_error("checkpoint: writing " + tmp + " failed (disk full?)");
   }
   fs::rename(tmp, path);
+  const auto common = latest_common_checkpoint(out, {"mbd", "dem"});
   auto steps = checkpoint_steps(out, h.node);
-  for (std::size_t k = 0; k + keep < steps.size(); ++k) fs::remove(checkpoint_path(out, h.node, steps[k]));
+  for (std::size_t k = 0; k + keep < steps.size(); ++k)
+    if (common && steps[k] < *common) fs::remove(checkpoint_path(out, h.node, steps[k]));
+}
+
+void remove_checkpoints_after(const std::string& out, const std::string& node, uint64_t step) {
+  for (auto k : checkpoint_steps(out, node))
+    if (k > step) fs::remove(checkpoint_path(out, node, k));
 }
 
 std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const std::vector<std::string>& nodes) {

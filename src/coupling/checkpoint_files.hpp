@@ -23,12 +23,15 @@ struct CheckpointHeader {
 
 std::string checkpoint_dir(const std::string& out);
 std::string checkpoint_path(const std::string& out, const std::string& node, uint64_t step);
-// Writes header + body atomically (.tmp then rename) and removes all but the newest `keep` of this node.
+// Writes header + body atomically (.tmp then rename) and removes this node's older files beyond the newest
+// `keep`, but never the newest step that every node has (the one a resume needs) or any later one.
 void write_checkpoint(const std::string& out, const CheckpointHeader& h,
                       const std::function<void(core::BinaryWriter&)>& body, int keep = 2);
 // Steps for which a checkpoint of `node` exists, ascending.
 std::vector<uint64_t> checkpoint_steps(const std::string& out, const std::string& node);
-// Newest step present for every node; nullopt when there is none.
+// Removes `node`'s checkpoints after `step` (a resumed run rewrites them; a stale one could pair up wrongly).
+void remove_checkpoints_after(const std::string& out, const std::string& node, uint64_t step);
+// Newest step present for every node ("mbd", "dem"); nullopt when there is none.
 std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const std::vector<std::string>& nodes);
 // Opens the checkpoint of `node` at `step`, checks its header and calls `body` with a reader positioned after it.
 // Throws std::runtime_error naming the file on any mismatch. Returns the header.

@@ -45,7 +45,14 @@ Follower::Action Follower::on_request(std::uint64_t step) {
     return Action::Advance;
   }
   if (last_ && step == *last_) return Action::Resend;
+  if (resumed_at_ && step + 1 < *resumed_at_)
+    throw ProtocolError("coupling: request for step " + std::to_string(step) + ", but this node resumed from the "
+                        "checkpoint at step " + std::to_string(*resumed_at_) +
+                        ": give ~resume:=true to both nodes, or to neither");
   if (last_ && step < *last_) return Action::Ignore;
+  if (expected == 0 && step > 0)
+    throw ProtocolError("coupling: request for step " + std::to_string(step) + " before any step 0: the leader "
+                        "resumed from a checkpoint; give ~resume:=true to both nodes, or to neither");
   throw ProtocolError("coupling: request for step " + std::to_string(step) + " but step " +
                       std::to_string(expected) + " was expected (a step was lost; restart both nodes)");
 }
@@ -62,6 +69,7 @@ void Follower::resume_at(std::uint64_t step) {
   if (last_) throw ProtocolError("coupling: resume_at must come before the first request");
   last_ = step - 1;
   advanced_ = step;
+  resumed_at_ = step;
 }
 
 }  // namespace coupling

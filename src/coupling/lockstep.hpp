@@ -65,7 +65,7 @@ class Follower {
   std::uint64_t advanced() const { return advanced_; }
 
  private:
-  std::optional<std::uint64_t> last_;
+  std::optional<std::uint64_t> last_, resumed_at_;
   std::uint64_t advanced_ = 0;
 };
 

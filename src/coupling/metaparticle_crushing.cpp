@@ -10,11 +10,23 @@ double crushing_force(double d, double tensile_strength) { return M_PI * d * d *
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            double tensile_strength) {
   std::vector<std::size_t> out;
-  for (const auto* mc : meshes)
+  std::vector<std::pair<std::size_t, double>> load;  // (particle, normal force) per contact with one mesh
+  for (const auto* mc : meshes) {
+    load.clear();
     for (const auto& c : mc->contacts()) {
       const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i < P.size() && c.normal_force > crushing_force(2.0 * P.r[i], tensile_strength)) out.push_back(i);
+      if (i < P.size() && P.id[i] == c.particle_id) load.emplace_back(i, c.normal_force);  // skip stale records
     }
+    // A sphere pressed across an edge of the tessellation touches two facets: their forces add up.
+    std::sort(load.begin(), load.end());
+    for (std::size_t a = 0; a < load.size();) {
+      std::size_t b = a;
+      double f = 0;
+      for (; b < load.size() && load[b].first == load[a].first; ++b) f += load[b].second;
+      if (f > crushing_force(2.0 * P.r[load[a].first], tensile_strength)) out.push_back(load[a].first);
+      a = b;
+    }
+  }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

@@ -29,7 +29,7 @@ struct CrushingParams {
 double crushing_force(double d, double tensile_strength);
 
 // Indices (ascending, unique) of the particles pressed against one of the meshes harder than their F_c
-// in the meshes' last step.
+// in the meshes' last step (normal forces summed over the facets of a mesh the particle touches).
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            double tensile_strength);
 

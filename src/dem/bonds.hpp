@@ -53,6 +53,7 @@ struct BondBreak {
   double x[3] = {0, 0, 0};          // position: the bond centre on the line of centres (m)
   uint64_t id_i = 0, id_j = 0;      // particle ids
   bool tensile = false;             // true: Eq. 25 tensile criterion; false: shear
+  bool crushed = false;             // true: removed with a metaparticle crushed to fines (coupling), not by Eq. 25
   double sigma = 0, tau = 0;        // stresses at breakage (Pa)
 };
 

@@ -263,25 +263,15 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
 }
 
 // ------------------------------------------------------------------ checkpoint
-namespace {
-void put_v3(core::BinaryWriter& w, const Eigen::Vector3d& v) {
-  for (int k = 0; k < 3; ++k) w.put<double>(v[k]);
-}
-Eigen::Vector3d get_v3(core::BinaryReader& r) {
-  Eigen::Vector3d v;
-  for (int k = 0; k < 3; ++k) v[k] = r.get<double>();
-  return v;
-}
-}  // namespace
 
 void MeshContact::save_state(core::BinaryWriter& w) const {
   w.tag("MESH");
   w.put<uint64_t>(mesh_.num_triangles());
   const Pose& pose = mesh_.pose();
-  put_v3(w, pose.position);
+  w.put_xyz(pose.position);
   for (int k = 0; k < 4; ++k) w.put<double>(pose.orientation.coeffs()[k]);  // x, y, z, w
-  put_v3(w, mesh_.twist().linear);
-  put_v3(w, mesh_.twist().angular);
+  w.put_xyz(mesh_.twist().linear);
+  w.put_xyz(mesh_.twist().angular);
   // broad phase: built lazily from the largest radius at its first use (candidates come in triangle order in
   // every cell, so results do not depend on it; restored so the loaded object has the same grid and cost)
   w.put<uint8_t>(grid_.empty() ? 0 : 1);
@@ -292,18 +282,18 @@ void MeshContact::save_state(core::BinaryWriter& w) const {
   for (const Old& o : old_) {
     w.put<uint64_t>(o.id);
     w.put<int32_t>(o.tri);
-    put_v3(w, o.normal);
-    put_v3(w, o.history);
+    w.put_xyz(o.normal);
+    w.put_xyz(o.history);
   }
   // the last step's totals (read by the coupling between steps)
-  put_v3(w, force_);
-  put_v3(w, torque_origin_);
+  w.put_xyz(force_);
+  w.put_xyz(torque_origin_);
   w.put<double>(total_normal_);
   w.put<double>(worst_ratio_);
   w.put<int64_t>(worst_index_);
   w.put_vec(region_normal_);
   w.put<uint64_t>(region_force_.size());
-  for (const auto& f : region_force_) put_v3(w, f);
+  for (const auto& f : region_force_) w.put_xyz(f);
 }
 
 void MeshContact::load_state(core::BinaryReader& r) {
@@ -313,11 +303,11 @@ void MeshContact::load_state(core::BinaryReader& r) {
     r.fail("mesh '" + mesh_.name() + "' was saved with " + std::to_string(ntri) + " triangles, this one has " +
            std::to_string(mesh_.num_triangles()));
   Pose pose;
-  pose.position = get_v3(r);
+  pose.position = r.get_xyz<Eigen::Vector3d>();
   for (int k = 0; k < 4; ++k) pose.orientation.coeffs()[k] = r.get<double>();
   Twist twist;
-  twist.linear = get_v3(r);
-  twist.angular = get_v3(r);
+  twist.linear = r.get_xyz<Eigen::Vector3d>();
+  twist.angular = r.get_xyz<Eigen::Vector3d>();
   const bool has_grid = r.get<uint8_t>() != 0;
   const double margin = r.get<double>(), cell = r.get<double>();
   const uint64_t nold = r.get<uint64_t>();
@@ -327,13 +317,13 @@ void MeshContact::load_state(core::BinaryReader& r) {
     Old& o = old[k];
     o.id = r.get<uint64_t>();
     o.tri = r.get<int32_t>();
-    o.normal = get_v3(r);
-    o.history = get_v3(r);
+    o.normal = r.get_xyz<Eigen::Vector3d>();
+    o.history = r.get_xyz<Eigen::Vector3d>();
     if (o.tri < 0 || static_cast<uint64_t>(o.tri) >= ntri ||
         (k > 0 && (o.id < old[k - 1].id || (o.id == old[k - 1].id && o.tri <= old[k - 1].tri))))
       r.fail("mesh '" + mesh_.name() + "': contact history out of range or order");
   }
-  const Eigen::Vector3d force = get_v3(r), torque = get_v3(r);
+  const Eigen::Vector3d force = r.get_xyz<Eigen::Vector3d>(), torque = r.get_xyz<Eigen::Vector3d>();
   const double total_normal = r.get<double>(), worst_ratio = r.get<double>();
   const int64_t worst_index = r.get<int64_t>();
   std::vector<double> region_normal;
@@ -344,7 +334,7 @@ void MeshContact::load_state(core::BinaryReader& r) {
     r.fail("mesh '" + mesh_.name() + "' was saved with " + std::to_string(nrf) + " regions, this one has " +
            std::to_string(nreg));
   std::vector<Eigen::Vector3d> region_force(nrf);
-  for (auto& f : region_force) f = get_v3(r);
+  for (auto& f : region_force) f = r.get_xyz<Eigen::Vector3d>();
   try {
     mesh_.set_pose(pose);
   } catch (const std::invalid_argument& e) {

@@ -22,12 +22,6 @@ bool any_bits(const std::array<double, 3>& h) {
   return std::memcmp(h.data(), zero.data(), sizeof zero) != 0;
 }
 
-void put3(core::BinaryWriter& w, const double* a) {
-  for (int k = 0; k < 3; ++k) w.put<double>(a[k]);
-}
-void get3(core::BinaryReader& r, double* a) {
-  for (int k = 0; k < 3; ++k) a[k] = r.get<double>();
-}
 
 // An array of exactly n entries; the error names it.
 template <class V>
@@ -80,11 +74,11 @@ void World::save_state(core::BinaryWriter& w) {
 
   w.tag("WALL");
   for (const PlanarWall& wl : walls_) {
-    put3(w, wl.p);
-    put3(w, wl.n);
-    put3(w, wl.v);
+    w.put_xyz(wl.p);
+    w.put_xyz(wl.n);
+    w.put_xyz(wl.v);
     w.put<int32_t>(wl.material);
-    put3(w, wl.force);
+    w.put_xyz(wl.force);
   }
   w.put_vec(wtouch_);
   uint64_t nwh = 0;
@@ -96,7 +90,7 @@ void World::save_state(core::BinaryWriter& w) {
       if (!any_bits(h)) continue;
       w.put<uint32_t>(static_cast<uint32_t>(i));
       w.put<uint32_t>(static_cast<uint32_t>(k));
-      put3(w, h.data());
+      w.put_xyz(h.data());
     }
 
   w.tag("BOND");
@@ -105,15 +99,15 @@ void World::save_state(core::BinaryWriter& w) {
     w.put<uint32_t>(b.i);
     w.put<uint32_t>(b.j);
     for (double v : {b.rb, b.A, b.J, b.kn, b.kt, b.sigma_c, b.tau_c, b.damping, b.fn}) w.put<double>(v);
-    put3(w, b.ft);
+    w.put_xyz(b.ft);
     w.put<double>(b.tn);
-    put3(w, b.tt);
+    w.put_xyz(b.tt);
     w.put<uint8_t>(b.alive ? 1 : 0);
   }
   w.put<uint64_t>(breaks_.size());
   for (const BondBreak& e : breaks_) {
     w.put<double>(e.t);
-    put3(w, e.x);
+    w.put_xyz(e.x);
     w.put<uint64_t>(e.id_i);
     w.put<uint64_t>(e.id_j);
     w.put<uint8_t>(e.tensile ? 1 : 0);
@@ -131,7 +125,7 @@ void World::save_state(core::BinaryWriter& w) {
     if (!(touch_[q] || any_bits(hist_[q]))) continue;
     w.put<uint32_t>(pi_[q]);
     w.put<uint32_t>(pj_[q]);
-    put3(w, hist_[q].data());
+    w.put_xyz(hist_[q].data());
     w.put<uint8_t>(touch_[q]);
   }
 
@@ -193,11 +187,11 @@ void World::load_state(core::BinaryReader& r) {
   r.expect("WALL");
   std::vector<PlanarWall> walls(nw);
   for (PlanarWall& wl : walls) {
-    get3(r, wl.p);
-    get3(r, wl.n);
-    get3(r, wl.v);
+    r.get_doubles(wl.p, 3);
+    r.get_doubles(wl.n, 3);
+    r.get_doubles(wl.v, 3);
     wl.material = r.get<int32_t>();
-    get3(r, wl.force);
+    r.get_doubles(wl.force, 3);
     if (wl.material < 0 || wl.material >= nmat) r.fail("wall material " + std::to_string(wl.material));
   }
   SVec<char> wtouch;
@@ -208,7 +202,7 @@ void World::load_state(core::BinaryReader& r) {
     const uint32_t i = r.get<uint32_t>(), k = r.get<uint32_t>();
     if (i >= n || k >= nw)
       r.fail("wall history entry for particle " + std::to_string(i) + ", wall " + std::to_string(k) + " out of range");
-    get3(r, whist[i * nw + k].data());
+    r.get_doubles(whist[i * nw + k].data(), 3);
   }
 
   r.expect("BOND");
@@ -217,9 +211,9 @@ void World::load_state(core::BinaryReader& r) {
     b.i = r.get<uint32_t>();
     b.j = r.get<uint32_t>();
     for (double* v : {&b.rb, &b.A, &b.J, &b.kn, &b.kt, &b.sigma_c, &b.tau_c, &b.damping, &b.fn}) *v = r.get<double>();
-    get3(r, b.ft);
+    r.get_doubles(b.ft, 3);
     b.tn = r.get<double>();
-    get3(r, b.tt);
+    r.get_doubles(b.tt, 3);
     b.alive = r.get<uint8_t>() ? 1 : 0;
     if (b.i >= n || b.j >= n || b.i == b.j)
       r.fail("bond between particles " + std::to_string(b.i) + " and " + std::to_string(b.j) + " of " +
@@ -228,7 +222,7 @@ void World::load_state(core::BinaryReader& r) {
   std::vector<BondBreak> breaks(get_count(r, uint64_t(1) << 34, "bond break"));
   for (BondBreak& e : breaks) {
     e.t = r.get<double>();
-    get3(r, e.x);
+    r.get_doubles(e.x, 3);
     e.id_i = r.get<uint64_t>();
     e.id_j = r.get<uint64_t>();
     e.tensile = r.get<uint8_t>() != 0;
@@ -244,7 +238,7 @@ void World::load_state(core::BinaryReader& r) {
   for (uint64_t q = 0; q < npairs; ++q) {
     pi[q] = r.get<uint32_t>();
     pj[q] = r.get<uint32_t>();
-    get3(r, hist[q].data());
+    r.get_doubles(hist[q].data(), 3);
     touch[q] = r.get<uint8_t>();
     if (!(pi[q] < pj[q] && pj[q] < n) || (q > 0 && (pi[q] < pi[q - 1] || (pi[q] == pi[q - 1] && pj[q] <= pj[q - 1]))))
       r.fail("neighbour pair (" + std::to_string(pi[q]) + ", " + std::to_string(pj[q]) + ") out of range or order");

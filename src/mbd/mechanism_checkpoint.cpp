@@ -46,20 +46,6 @@ constexpr uint32_t kFormatVersion = 1;
 
 const char* load_name(LoadModel l) { return l == LoadModel::Bed ? "bed" : "none"; }
 
-void put3(core::BinaryWriter& w, const Eigen::Vector3d& v) {
-  for (int i = 0; i < 3; ++i) w.put<double>(v[i]);
-}
-Eigen::Vector3d get3(core::BinaryReader& r) {
-  Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) v[i] = r.get<double>();
-  return v;
-}
-void put_n(core::BinaryWriter& w, const dReal* v, int n) {
-  for (int i = 0; i < n; ++i) w.put<double>(v[i]);
-}
-void get_n(core::BinaryReader& r, dReal* v, int n) {
-  for (int i = 0; i < n; ++i) v[i] = r.get<double>();
-}
 
 // First line where two parameter listings differ, with the section it belongs to.
 std::string first_difference(const std::string& a, const std::string& b) {
@@ -130,25 +116,25 @@ void Mechanism::save_state(core::BinaryWriter& w) const {
     w.tag("BODY");
     w.put<int32_t>(i);
     const dBodyID b = m.body[i];
-    put_n(w, dBodyGetPosition(b), 3);
-    put_n(w, dBodyGetQuaternion(b), 4);
-    put_n(w, dBodyGetRotation(b), 12);
-    put_n(w, dBodyGetLinearVel(b), 3);
-    put_n(w, dBodyGetAngularVel(b), 3);
+    w.put_doubles(dBodyGetPosition(b), 3);
+    w.put_doubles(dBodyGetQuaternion(b), 4);
+    w.put_doubles(dBodyGetRotation(b), 12);
+    w.put_doubles(dBodyGetLinearVel(b), 3);
+    w.put_doubles(dBodyGetAngularVel(b), 3);
   }
 
   w.tag("JNTS");
   w.put<double>(dJointGetHingeParam(m.o7, dParamVel));
   w.put<double>(dJointGetAMotorParam(m.o4_rot, dParamVel));
   w.put<double>(dJointGetAMotorParam(m.o4_rot, dParamVel2));
-  put_n(w, m.o7_feedback.f1, 3);
-  put_n(w, m.o7_feedback.t1, 3);
-  put_n(w, m.o7_feedback.f2, 3);
-  put_n(w, m.o7_feedback.t2, 3);
+  w.put_doubles(m.o7_feedback.f1, 3);
+  w.put_doubles(m.o7_feedback.t1, 3);
+  w.put_doubles(m.o7_feedback.f2, 3);
+  w.put_doubles(m.o7_feedback.t2, 3);
 
   w.tag("TPNT");
-  put3(w, m.tp_vel_prev);
-  put3(w, m.tp_acc);
+  w.put_xyz(m.tp_vel_prev);
+  w.put_xyz(m.tp_acc);
 
   w.tag("OUTP");
   w.put<double>(m.torque);
@@ -157,7 +143,7 @@ void Mechanism::save_state(core::BinaryWriter& w) const {
   w.put<double>(m.contact_force);
 
   w.tag("EXTW");
-  for (int i = 0; i < kBodyCount; ++i) put3(w, m.ext_f[i]), put3(w, m.ext_t[i]);
+  for (int i = 0; i < kBodyCount; ++i) w.put_xyz(m.ext_f[i]), w.put_xyz(m.ext_t[i]);
 
   w.tag("ENRG");
   put_audit(w, m.audit);
@@ -210,25 +196,25 @@ void Mechanism::load_state(core::BinaryReader& r) {
     const int32_t idx = r.get<int32_t>();
     if (idx != i) r.fail("body block " + std::to_string(idx) + " where body " + std::to_string(i) + " belongs");
     SavedBody& b = s.body[i];
-    get_n(r, b.pos, 3);
-    get_n(r, b.q, 4);
-    get_n(r, b.R, 12);
-    get_n(r, b.lvel, 3);
-    get_n(r, b.avel, 3);
+    r.get_doubles(b.pos, 3);
+    r.get_doubles(b.q, 4);
+    r.get_doubles(b.R, 12);
+    r.get_doubles(b.lvel, 3);
+    r.get_doubles(b.avel, 3);
   }
 
   r.expect("JNTS");
   s.hinge_vel = r.get<double>();
   s.amotor_vel = r.get<double>();
   s.amotor_vel2 = r.get<double>();
-  get_n(r, s.feedback.f1, 3);
-  get_n(r, s.feedback.t1, 3);
-  get_n(r, s.feedback.f2, 3);
-  get_n(r, s.feedback.t2, 3);
+  r.get_doubles(s.feedback.f1, 3);
+  r.get_doubles(s.feedback.t1, 3);
+  r.get_doubles(s.feedback.f2, 3);
+  r.get_doubles(s.feedback.t2, 3);
 
   r.expect("TPNT");
-  s.tp_vel_prev = get3(r);
-  s.tp_acc = get3(r);
+  s.tp_vel_prev = r.get_xyz<Eigen::Vector3d>();
+  s.tp_acc = r.get_xyz<Eigen::Vector3d>();
 
   r.expect("OUTP");
   s.torque = r.get<double>();
@@ -237,7 +223,7 @@ void Mechanism::load_state(core::BinaryReader& r) {
   s.contact_force = r.get<double>();
 
   r.expect("EXTW");
-  for (int i = 0; i < kBodyCount; ++i) s.ext_f[i] = get3(r), s.ext_t[i] = get3(r);
+  for (int i = 0; i < kBodyCount; ++i) s.ext_f[i] = r.get_xyz<Eigen::Vector3d>(), s.ext_t[i] = r.get_xyz<Eigen::Vector3d>();
 
   r.expect("ENRG");
   s.audit = get_audit(r);

@@ -20,9 +20,10 @@
 #include <memory>
 #include <optional>
 #include <sys/stat.h>
+#include <cerrno>
+#include <cstring>
 #include <unistd.h>
 
-#include <filesystem>
 
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
@@ -79,6 +80,20 @@ std_msgs::ColorRGBA colour_of(int label) {  // distinct, stable colours per frag
   return c;
 }
 
+// dem_node could not start: mbd_node, already waiting for its first answer, stops now instead of after
+// coupling.first_timeout_s.
+void tell_leader_early(ros::NodeHandle& nh, const std::string& why) {
+  auto pub = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
+  const double until = nodes::wall_now() + 2.0;
+  while (pub.getNumSubscribers() == 0 && nodes::wall_now() < until) ros::WallDuration(0.05).sleep();
+  inertia_crusher::GeometryWrench w;
+  w.stopped = "could not start: " + why;
+  for (int i = 0; i < 5; ++i) {
+    pub.publish(w);
+    ros::WallDuration(0.05).sleep();
+  }
+}
+
 class DemNode {
  public:
   DemNode(ros::NodeHandle& nh, Config cfg, std::string out, bool resume)
@@ -97,8 +112,10 @@ class DemNode {
     pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
     pub_map_markers_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/concave_force_markers", 2, true);
     sub_ = nh.subscribe("/crusher/geometry_state", 100, &DemNode::on_state, this, ros::TransportHints().tcpNoDelay());
-    ck_steps_ = cfg_.run.checkpoint_every_s > 0
+    ck_steps_ = cfg_.run.checkpoint_every_s > 0 && !out_.empty()
                     ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+    if (cfg_.run.checkpoint_every_s > 0 && out_.empty())
+      ROS_WARN("dem_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
     if (resume && out_.empty()) throw std::invalid_argument("~resume needs ~out, the run's folder");
     std::streamoff breaks_size = 0;
     if (resume) breaks_size = resume_from_checkpoint();
@@ -107,15 +124,22 @@ class DemNode {
         bag_.open(out_ + "/dem.bag");
       } else {
         if (!resume) {  // checkpoints and segments of an earlier run in ~out
-          for (auto k : coupling::checkpoint_steps(out_, "dem"))
-            std::filesystem::remove(coupling::checkpoint_path(out_, "dem", k));
+          if (!coupling::checkpoint_steps(out_, "dem").empty())
+            ROS_INFO("dem_node: a fresh run (no ~resume): removing the checkpoints of the earlier run in %s",
+                     out_.c_str());
+          coupling::remove_checkpoints_after(out_, "dem", 0);  // checkpoints are taken after step 0 only
         }
         coupling::remove_bag_segments_from(out_, "dem", resume_step_);
         bag_.open(coupling::bag_segment_path(out_, "dem", resume_step_));
       }
       const std::string bp = out_ + "/breaks.csv";
       if (resume) {  // the log as it was at the checkpoint, then appended
-        if (::truncate(bp.c_str(), breaks_size) != 0) throw std::runtime_error("~resume: cannot truncate " + bp);
+        struct stat st {};
+        if (::stat(bp.c_str(), &st) != 0 || st.st_size < breaks_size)
+          throw std::runtime_error("~resume: " + bp + " is missing or shorter than at the checkpoint (" +
+                                   std::to_string(breaks_size) + " bytes): the run's folder is not the one checkpointed");
+        if (::truncate(bp.c_str(), breaks_size) != 0)
+          throw std::runtime_error("~resume: cannot truncate " + bp + ": " + std::strerror(errno));
         breaks_.open(bp, std::ios::app);
       } else {
         breaks_.open(bp);
@@ -229,13 +253,13 @@ class DemNode {
   // Progress for the person waiting: sim time, percent, ETA, particles, broken bonds (every 5 s of wall time).
   void report_progress() {
     const double now = nodes::wall_now();
-    if (start_wall_ == 0) start_wall_ = now;
+    if (start_wall_ == 0) start_wall_ = now, start_sim_ = dem_->time();  // a resumed run's ETA: from its start
     if (now < next_progress_) return;
     next_progress_ = now + 5.0;
-    const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_;
+    const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_, done = t - start_sim_;
     const auto p = dem_->product();
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %.0f s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, t > 0 ? el * (T - t) / t : 0.0,
+             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, done > 0 ? el * (T - t) / done : 0.0,
              dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
@@ -287,7 +311,8 @@ class DemNode {
   void log_breaks() {
     for (const auto& b : dem_->take_breaks()) {
       if (breaks_) {
-        breaks_ << b.t << "," << b.x[0] << "," << b.x[1] << "," << b.x[2] << "," << (b.tensile ? "tensile" : "shear")
+        const char* mode = b.crushed ? "crushed" : b.tensile ? "tensile" : "shear";
+        breaks_ << b.t << "," << b.x[0] << "," << b.x[1] << "," << b.x[2] << "," << mode
                 << "," << b.id_i << "," << b.id_j << "," << b.sigma << "," << b.tau << "\n";
       }
     }
@@ -446,6 +471,7 @@ class DemNode {
     });
     follower_.resume_at(*k);
     resume_step_ = last_checkpoint_ = *k;
+    coupling::remove_checkpoints_after(out_, "dem", *k);
     ROS_INFO("dem_node: resumed from the checkpoint at step %llu (t = %.4f s, %zu particles)",
              static_cast<unsigned long long>(*k), h.time, dem_->world().particles().size());
     return breaks_size;
@@ -466,6 +492,7 @@ class DemNode {
   bool finished_ = false;
   bool requested_ = false;  // a geometry state has arrived (until then the first-answer timeout applies)
   bool warned_squeeze_ = false;
+  double start_sim_ = 0;
   double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0, start_wall_ = 0, next_progress_ = 0;
 };
 
@@ -500,8 +527,9 @@ int main(int argc, char** argv) {
     }
     DemNode node(nh, std::move(cfg), out, resume);
     return node.run();
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // set-up failed (e.g. a checkpoint that does not fit): tell mbd_node
     std::fprintf(stderr, "dem_node: %s\n", e.what());
+    tell_leader_early(nh, e.what());
     return 2;
   }
 }

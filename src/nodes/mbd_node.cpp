@@ -22,7 +22,6 @@
 #include <optional>
 #include <sys/stat.h>
 
-#include <filesystem>
 
 #include "analysis/run_metrics.hpp"
 #include "core/run_config.hpp"
@@ -74,8 +73,10 @@ class MbdNode {
     mech_ = std::make_unique<mbd::Mechanism>(cfg_.mech, cfg_.run.load == "bed" ? mbd::LoadModel::Bed
                                                                                 : mbd::LoadModel::None);
     const bool coupled = cfg_.run.load == "dem";
-    ck_steps_ = coupled && cfg_.run.checkpoint_every_s > 0
+    ck_steps_ = coupled && cfg_.run.checkpoint_every_s > 0 && !out_.empty()
                     ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+    if (coupled && cfg_.run.checkpoint_every_s > 0 && out_.empty())
+      ROS_WARN("mbd_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
     if (resume) {
       if (!coupled || out_.empty())
         throw std::invalid_argument("~resume needs a coupled run (run.load dem) and ~out, the run's folder");
@@ -112,14 +113,20 @@ class MbdNode {
     int status = 0;
     try {
       loop();
-      if (ck_steps_ && leader_.completed() != last_checkpoint_) {  // the end: a resumed run extends it
-        write_checkpoint();
-        bag_.close();  // what follows (the last product) belongs after the checkpoint
-        bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
-      }
+      // The end: a resumed run extends it (what follows, the last product, belongs after the checkpoint).
+      if (ck_steps_ && leader_.completed() != last_checkpoint_) checkpoint_and_rotate();
     } catch (const std::exception& e) {
       ROS_ERROR("mbd_node: %s (t = %.4f s); the bag and the partial summary are kept", e.what(), mech_->time());
       status = 1;
+      // Stopped while waiting for an answer (a signal, or dem_node stopped): the mechanism has not moved since
+      // it asked for that step, so its state is the one at the step dem_node checkpoints when it stops.
+      if (ck_steps_ && waiting_ && leader_.completed() != last_checkpoint_) {
+        try {
+          checkpoint_and_rotate();
+        } catch (const std::exception& e2) {
+          ROS_ERROR("mbd_node: final checkpoint failed: %s", e2.what());
+        }
+      }
     }
     wall_s_ = nodes::wall_now() - t0;
     finish();
@@ -143,11 +150,8 @@ class MbdNode {
         ROS_WARN("mbd_node: stopped at t = %.4f s; closing the bag", mech_->time());
         break;
       }
-      if (ck_steps_ && leader_.completed() % ck_steps_ == 0 && leader_.completed() != last_checkpoint_) {
-        write_checkpoint();
-        bag_.close();
-        bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
-      }
+      if (ck_steps_ && leader_.completed() % ck_steps_ == 0 && leader_.completed() != last_checkpoint_)
+        checkpoint_and_rotate();
       if (coupled) exchange(steps_per_coupling * dt);
       for (long i = 0; i < steps_per_coupling; ++i) {
         mech_->step();
@@ -175,6 +179,7 @@ class MbdNode {
   void exchange(double coupling_dt) {
     std::uint64_t step = leader_.request(nodes::wall_now());
     send_geometry(step, coupling_dt);
+    waiting_ = true;
     while (leader_.pending()) {
       ros::spinOnce();
       if (!leader_.pending()) break;
@@ -185,6 +190,7 @@ class MbdNode {
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
       ros::WallDuration(2e-5).sleep();
     }
+    waiting_ = false;
     mech_->set_particle_wrench(BodyId::FloatingCone, wrench_.mantle_force, wrench_.mantle_torque);
     mech_->set_particle_wrench(BodyId::FixedCone, wrench_.concave_force, wrench_.concave_torque);
   }
@@ -332,8 +338,15 @@ class MbdNode {
   // ---- checkpoints (coupled runs with run.checkpoint_every_s > 0)
   // Old checkpoints and segments of this node in ~out belong to an earlier run: a fresh run removes them.
   void clear_own_files() {
-    for (auto k : coupling::checkpoint_steps(out_, "mbd")) std::filesystem::remove(coupling::checkpoint_path(out_, "mbd", k));
+    coupling::remove_checkpoints_after(out_, "mbd", 0);  // checkpoints are taken after step 0 only
     coupling::remove_bag_segments_from(out_, "run", 0);
+  }
+
+  // Checkpoint at the current step, then a new bag segment from it.
+  void checkpoint_and_rotate() {
+    write_checkpoint();
+    bag_.close();
+    bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
   }
 
   void write_checkpoint() {
@@ -350,6 +363,7 @@ class MbdNode {
         w.put(product_->throughput_tph);
         w.put(product_->mass_discharged_kg);
         w.put(product_->mass_lost_kg);
+        w.put(product_->mass_crushed_kg);
         w.put_vec(product_->sieve_mm);
         w.put_vec(product_->passing_pct);
       }
@@ -376,6 +390,7 @@ class MbdNode {
         r.get(p.throughput_tph);
         r.get(p.mass_discharged_kg);
         r.get(p.mass_lost_kg);
+        r.get(p.mass_crushed_kg);
         r.get_vec(p.sieve_mm);
         r.get_vec(p.passing_pct);
         product_ = p;
@@ -383,6 +398,7 @@ class MbdNode {
     });
     leader_.resume_at(*k);
     resume_step_ = last_checkpoint_ = *k;
+    coupling::remove_checkpoints_after(out_, "mbd", *k);
     ROS_INFO("mbd_node: resumed from the checkpoint at step %llu (t = %.4f s)", static_cast<unsigned long long>(*k),
              h.time);
   }
@@ -402,6 +418,7 @@ class MbdNode {
   std::optional<analysis::ProductSummary> product_;
   std::uint64_t last_recorded_step_ = ~0ull;
   std::string peer_stopped_;  // dem_node's reason, when it has stopped
+  bool waiting_ = false;      // inside exchange(): a step was requested and the mechanism has not moved since
   double wall_s_ = 0;
   struct {
     Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();

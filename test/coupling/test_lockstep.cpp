@@ -100,4 +100,18 @@ TEST(Lockstep, ResumedPairContinuesAtTheCheckpointStep) {
   EXPECT_THROW(late.resume_at(5), ProtocolError);  // only before the first request
   Follower g;
   EXPECT_THROW(g.resume_at(0), ProtocolError);
+  // Only one node resumed: the error says so instead of waiting for a timeout or blaming a lost step.
+  auto message = [](Follower& f, std::uint64_t step) {
+    try {
+      f.on_request(step);
+    } catch (const ProtocolError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Follower resumed;
+  resumed.resume_at(300);
+  EXPECT_NE(message(resumed, 0).find("~resume:=true to both nodes"), std::string::npos) << message(resumed, 0);
+  Follower fresh;
+  EXPECT_NE(message(fresh, 300).find("~resume:=true to both nodes"), std::string::npos) << message(fresh, 300);
 }
