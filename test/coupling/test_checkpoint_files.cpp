@@ -1,0 +1,74 @@
+// Checkpoint files of a coupled run (coupling/checkpoint_files.hpp): naming, pruning, the common step.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "coupling/checkpoint_files.hpp"
+
+namespace {
+
+std::string fresh_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("crusher_ckpt_" + name + std::to_string(::getpid()));
+  std::filesystem::remove_all(d);
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+void write(const std::string& out, const std::string& node, uint64_t step, double payload = 1.5) {
+  coupling::write_checkpoint(out, {node, step, step * 1e-3}, [&](core::BinaryWriter& w) { w.put(payload); });
+}
+
+}  // namespace
+
+TEST(CheckpointFiles, WritesReadsAndChecksTheHeader) {
+  const auto out = fresh_dir("rw");
+  write(out, "dem", 40, 2.25);
+  double got = 0;
+  auto h = coupling::read_checkpoint(out, "dem", 40, [&](core::BinaryReader& r) { got = r.get<double>(); });
+  EXPECT_EQ(got, 2.25);
+  EXPECT_EQ(h.step, 40u);
+  EXPECT_EQ(h.time, 0.04);
+  std::filesystem::rename(coupling::checkpoint_path(out, "dem", 40), coupling::checkpoint_path(out, "dem", 41));
+  try {  // a file under another step's name is refused by its header
+    coupling::read_checkpoint(out, "dem", 41, [](core::BinaryReader&) {});
+    FAIL() << "accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("step 40, expected 'dem' step 41"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(coupling::checkpoint_path(out, "dem", 40) + ".tmp"));
+}
+
+// The pruning keeps each node's newest two, but never the newest step both nodes hold: after a stop in
+// which only one node wrote a final checkpoint, a second stop must still leave a step to resume from.
+TEST(CheckpointFiles, PruningKeepsTheNewestCommonStep) {
+  const auto out = fresh_dir("prune");
+  for (uint64_t k : {100, 200}) write(out, "mbd", k), write(out, "dem", k);
+  write(out, "dem", 250);  // dem's final checkpoint of a stop mbd did not match
+  EXPECT_EQ(coupling::latest_common_checkpoint(out, {"mbd", "dem"}), std::optional<uint64_t>(200));
+  write(out, "dem", 230);  // another unmatched one
+  EXPECT_EQ(coupling::latest_common_checkpoint(out, {"mbd", "dem"}), std::optional<uint64_t>(200));
+  EXPECT_EQ(coupling::checkpoint_steps(out, "dem"), (std::vector<uint64_t>{200, 230, 250}));
+  // A resume from 200 drops the unmatched later files; the periodic pruning then goes on as usual.
+  coupling::remove_checkpoints_after(out, "dem", 200);
+  EXPECT_EQ(coupling::checkpoint_steps(out, "dem"), (std::vector<uint64_t>{200}));
+  for (uint64_t k : {300, 400}) write(out, "mbd", k), write(out, "dem", k);
+  EXPECT_EQ(coupling::checkpoint_steps(out, "mbd"), (std::vector<uint64_t>{300, 400}));
+  EXPECT_EQ(coupling::checkpoint_steps(out, "dem"), (std::vector<uint64_t>{300, 400}));
+  EXPECT_EQ(coupling::latest_common_checkpoint(out, {"mbd", "dem"}), std::optional<uint64_t>(400));
+}
+
+TEST(CheckpointFiles, SegmentsAndStrayNames) {
+  const auto out = fresh_dir("seg");
+  for (uint64_t k : {0, 20, 40}) std::ofstream(coupling::bag_segment_path(out, "run", k)) << "x";
+  std::ofstream(out + "/run.seg99999999999999999999999.bag") << "x";  // too many digits: not a segment
+  std::filesystem::create_directories(coupling::checkpoint_dir(out));
+  std::ofstream(coupling::checkpoint_dir(out) + "/mbd.notanumber.ckpt") << "x";
+  coupling::remove_bag_segments_from(out, "run", 20);
+  EXPECT_TRUE(std::filesystem::exists(coupling::bag_segment_path(out, "run", 0)));
+  EXPECT_FALSE(std::filesystem::exists(coupling::bag_segment_path(out, "run", 20)));
+  EXPECT_FALSE(std::filesystem::exists(coupling::bag_segment_path(out, "run", 40)));
+  EXPECT_TRUE(std::filesystem::exists(out + "/run.seg99999999999999999999999.bag"));
+  EXPECT_EQ(coupling::bag_segment_path(out, "dem", 1234), out + "/dem.seg0000001234.bag");
+  EXPECT_FALSE(coupling::latest_common_checkpoint(out, {"mbd", "dem"}).has_value());
+}
