@@ -5,50 +5,22 @@
 #include <sstream>
 
 #include "coupling/chamber_dem.hpp"
+#include "small_chamber.hpp"
 
 namespace {
 
-// The 1:4 chamber of test_chamber_dem.cpp, pre-filled so that rock presses on the liners from the start,
-// with choke feeding on top (new rocks draw on the random generator after the checkpoint).
+// The small chamber pre-filled, so that rock presses on the liners from the start, with choke feeding on top
+// (new rocks draw on the random generator after the checkpoint).
 coupling::ChamberParams small_filled_chamber() {
-  coupling::ChamberParams p;
-  p.chamber.mantle.z = {-0.05, -0.20};
-  p.chamber.mantle.r = {0.045, 0.150};
-  p.chamber.concave.z = {-0.02, -0.21};
-  p.chamber.concave.r = {0.080, 0.175};
-  p.mantle_com_z_m = -0.30;
-  p.concave_com_z_m = -0.10;
-  p.liner_sectors = 36;
+  auto p = test_chamber::small_chamber();
   p.threads = 2;
-  p.feed.rock_size_m = 0.03;
-  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
-  p.feed.choke_height_m = 0.03;
-  p.bpm.packing.density = 0.45;
   p.feed.prefill = true;
   p.feed.prefill_max_kg = 0.4;
   p.feed.max_fed_kg = 0.8;
   p.feed.max_rate_kg_s = 4.0;  // a rock every few ms: feeding goes on across the checkpoint
-  p.feed.drop_speed_m_s = 3.0;
-  p.bpm.bond.kn = 40e9;
-  p.bpm.bond.kt = 16e9;
   p.bpm.bond.sigma_c = 2.5e6;  // a tenth of Table 4: bonds break within the short run
   p.bpm.bond.tau_c = 0.9e6;
-  p.bpm.bond.disk_radius = 3.2e-3;
-  p.bpm.bond.reference_radius = 4e-3;
-  p.discharge_below_m = 0.02;
-  p.bookkeeping_s = 2e-3;
   return p;
-}
-
-// The mantle gyrating (axis tilted 2 deg, precessing at 10 Hz), the concave still.
-void gyrate(const coupling::ChamberParams& p, double t, coupling::BodyMotion* m) {
-  const double w = 2 * M_PI * 10, tilt = 2.0 * M_PI / 180;
-  Eigen::Vector3d axis(std::sin(tilt) * std::cos(w * t), std::sin(tilt) * std::sin(w * t), std::cos(tilt));
-  m->orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis);
-  Eigen::Vector3d axis_dot(-std::sin(tilt) * w * std::sin(w * t), std::sin(tilt) * w * std::cos(w * t), 0);
-  m->angular_velocity = axis.cross(axis_dot);
-  m->com = m->orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
-  m->velocity = m->angular_velocity.cross(m->com);
 }
 
 struct Record {  // what a run produces, step by step
@@ -61,7 +33,7 @@ void run_steps(coupling::ChamberDem& dem, const coupling::ChamberParams& p, int 
   coupling::BodyMotion m, c;
   c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
   for (int k = from; k < to; ++k) {
-    gyrate(p, k * 1e-3, &m);
+    test_chamber::gyrate(p, k * 1e-3, 2.0 * M_PI / 180, &m);
     auto [wm, wc] = dem.advance(m, c, 1e-3);
     for (const auto* v : {&wm.force, &wm.torque, &wc.force, &wc.torque})
       rec->wrench.insert(rec->wrench.end(), v->data(), v->data() + 3);

@@ -4,35 +4,11 @@
 #include <cstdio>
 
 #include "coupling/chamber_dem.hpp"
+#include "small_chamber.hpp"
 
 namespace {
 
-// A small chamber (a 1:4 model of the GYP1200's) fed with 30 mm rocks of ~4 mm metaparticles.
-coupling::ChamberParams small_chamber() {
-  coupling::ChamberParams p;
-  p.chamber.mantle.z = {-0.05, -0.20};
-  p.chamber.mantle.r = {0.045, 0.150};
-  p.chamber.concave.z = {-0.02, -0.21};
-  p.chamber.concave.r = {0.080, 0.175};
-  p.mantle_com_z_m = -0.30;
-  p.concave_com_z_m = -0.10;
-  p.liner_sectors = 36;
-  p.threads = 1;
-  p.feed.rock_size_m = 0.03;
-  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
-  p.feed.choke_height_m = 0.03;
-  p.bpm.packing.density = 0.45;  // few coarse spheres per rock cannot reach 0.6 without overlap
-  p.feed.max_fed_kg = 0.6;
-  p.feed.drop_speed_m_s = 3.0;
-  p.bpm.bond.kn = 40e9;  // a tenth of Table 4's stiffness: a 3x longer stable step keeps the test short
-  p.bpm.bond.kt = 16e9;
-  p.bpm.bond.sigma_c = 25e6;  // Table 4 strengths
-  p.bpm.bond.tau_c = 9e6;
-  p.bpm.bond.disk_radius = 3.2e-3;  // 0.8 x the 4 mm metaparticle radius
-  p.bpm.bond.reference_radius = 4e-3;
-  p.discharge_below_m = 0.02;
-  return p;
-}
+using test_chamber::small_chamber;
 
 coupling::BodyMotion at_rest(double com_z) {
   coupling::BodyMotion b;
@@ -48,15 +24,7 @@ TEST(ChamberDem, FeedsCrushesAndReportsConsistentWrenchesAndProduct) {
   coupling::ChamberDem dem(p);
   auto m = at_rest(p.mantle_com_z_m), c = at_rest(p.concave_com_z_m);
   // The mantle gyrates: its axis tilted 2 degrees and precessing at 10 Hz about the crusher axis.
-  const double w = 2 * M_PI * 10, tilt = 2.0 * M_PI / 180;
-  auto gyrate = [&](double t) {
-    Eigen::Vector3d axis(std::sin(tilt) * std::cos(w * t), std::sin(tilt) * std::sin(w * t), std::cos(tilt));
-    m.orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis);
-    Eigen::Vector3d axis_dot(-std::sin(tilt) * w * std::sin(w * t), std::sin(tilt) * w * std::cos(w * t), 0);
-    m.angular_velocity = axis.cross(axis_dot);
-    m.com = m.orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
-    m.velocity = m.angular_velocity.cross(m.com);
-  };
+  auto gyrate = [&](double t) { test_chamber::gyrate(p, t, 2.0 * M_PI / 180, &m); };
   Eigen::Vector3d sum_force = Eigen::Vector3d::Zero();
   for (int k = 0; k < 200; ++k) {  // 0.2 s in 1 ms coupling steps
     gyrate(k * 1e-3);

@@ -8,6 +8,7 @@
 #include "coupling/chamber_dem.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "dem/world.hpp"
+#include "small_chamber.hpp"
 
 namespace {
 
@@ -85,43 +86,18 @@ TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
 // In a chamber, crushed metaparticles leave as product fines: the mass balance still closes, the product's
 // fine end is the progeny's, and no metaparticle stays pressed into a liner beyond its strength.
 TEST(MetaparticleCrushing, ChamberKeepsItsMassBalanceAndScreensTheFines) {
-  coupling::ChamberParams p;
-  p.chamber.mantle.z = {-0.05, -0.20};
-  p.chamber.mantle.r = {0.045, 0.150};
-  p.chamber.concave.z = {-0.02, -0.21};
-  p.chamber.concave.r = {0.080, 0.175};
-  p.mantle_com_z_m = -0.30;
-  p.concave_com_z_m = -0.10;
-  p.liner_sectors = 36;
+  auto p = test_chamber::small_chamber();
   p.threads = 2;
-  p.feed.rock_size_m = 0.03;
-  p.bpm.metaparticles = rocks::SizeDistribution({{4e-3, 0.4e-3, 1.0}});
-  p.feed.choke_height_m = 0.03;
-  p.bpm.packing.density = 0.45;
   p.feed.prefill = true;
   p.feed.prefill_max_kg = 0.5;
   p.feed.max_fed_kg = 0.5;
-  p.bpm.bond.kn = 40e9;
-  p.bpm.bond.kt = 16e9;
-  p.bpm.bond.sigma_c = 25e6;
-  p.bpm.bond.tau_c = 9e6;
-  p.bpm.bond.disk_radius = 3.2e-3;
-  p.bpm.bond.reference_radius = 4e-3;
-  p.discharge_below_m = 0.02;
   p.crushing.enabled = true;
   p.crushing.tensile_strength = 0.5e6;  // weaker than marble: F_c(8 mm) = 36 N, the 3 deg gyration crushes some
   auto run = [&](coupling::ChamberDem& dem) {
     coupling::BodyMotion m, c;
     c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
-    const double w = 2 * M_PI * 10, tilt = 3.0 * M_PI / 180;
     for (int k = 0; k < 120; ++k) {
-      const double t = k * 1e-3;
-      Eigen::Vector3d axis(std::sin(tilt) * std::cos(w * t), std::sin(tilt) * std::sin(w * t), std::cos(tilt));
-      m.orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis);
-      Eigen::Vector3d axis_dot(-std::sin(tilt) * w * std::sin(w * t), std::sin(tilt) * w * std::cos(w * t), 0);
-      m.angular_velocity = axis.cross(axis_dot);
-      m.com = m.orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
-      m.velocity = m.angular_velocity.cross(m.com);
+      test_chamber::gyrate(p, k * 1e-3, 3.0 * M_PI / 180, &m);
       dem.advance(m, c, 1e-3);
     }
   };
