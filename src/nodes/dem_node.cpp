@@ -499,6 +499,7 @@ class DemNode {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a redirected log as they are written
   ros::init(argc, argv, "dem_node", ros::init_options::NoSigintHandler);
   nodes::install_stop_handler();
   ros::NodeHandle nh, pnh("~");

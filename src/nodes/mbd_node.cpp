@@ -429,6 +429,7 @@ class MbdNode {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a redirected log as they are written
   ros::init(argc, argv, "mbd_node", ros::init_options::NoSigintHandler);
   nodes::install_stop_handler();
   ros::NodeHandle nh, pnh("~");
