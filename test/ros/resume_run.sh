@@ -4,7 +4,7 @@
 #   B: the same case stopped at 0.08 s, then `--resume --duration 0.12`.
 # check_resume.py requires B's joined run.bag to equal A's message for message, byte for byte (every topic of
 # both nodes: wrenches, liner states, test point, power, product, particles), the same summary.json and break
-# log, and every coupling step exactly once.
+# log, and every coupling step exactly once. C: the same after both nodes are killed (a crash).
 source "$(dirname "$0")/ros_env.bash"
 export OMP_WAIT_POLICY=passive CRUSHER_NO_BUILD=1 CRUSHER_BUILD_ROOT=$out/buildroot
 
@@ -31,3 +31,19 @@ cp "$out/B/breaks.csv" "$out/B_first_leg_breaks.csv"
 run_case B --duration 0.12 --resume
 grep -h "resumed\|checkpoint at" "$out/B.log" | sed 's/\x1b\[[0-9;]*m//g' | head -n 8
 /usr/bin/python3 "$src/test/ros/check_resume.py" "$out/A" "$out/B"
+
+# C: a crash. Both nodes are killed (SIGKILL: no bag closed, no final checkpoint) soon after the checkpoint at
+# 0.04 s; `--resume` continues from it, and the result is again the uninterrupted run, byte for byte.
+"$crusher" run "$out/case.yaml" --out "$out/C" >"$out/C.log" 2>&1 &
+crashed=$!
+for _ in $(seq 1 600); do
+  [[ -f $out/C/checkpoint/mbd.0000000040.ckpt && -f $out/C/checkpoint/dem.0000000040.ckpt ]] && break
+  sleep 0.05
+done
+pkill -9 -f "_out:=$out/C" || true
+wait "$crashed" || true
+[[ -f $out/C/checkpoint/dem.0000000040.ckpt ]] || { tail -n 20 "$out/C.log"; echo "FAIL: no checkpoint before the crash"; exit 1; }
+ls "$out/C"
+run_case C --resume
+grep -h "resumed" "$out/C.log" | sed 's/\x1b\[[0-9;]*m//g'
+/usr/bin/python3 "$src/test/ros/check_resume.py" "$out/A" "$out/C"
