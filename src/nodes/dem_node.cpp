@@ -157,14 +157,13 @@ class DemNode {
           ROS_WARN("dem_node: stopped; closing the bag");
           break;
         }
-        ros::spinOnce();
+        nodes::wait_for_callbacks(0.01);
         if (error_) throw std::runtime_error(*error_);
         const double limit = requested_ ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
         if (nodes::wall_now() - last_heard_ > limit) {
           throw std::runtime_error("no geometry state from mbd_node for " + std::to_string(limit) +
                                    " s; is mbd_node running with run.load = dem on the same master?");
         }
-        ros::WallDuration(2e-5).sleep();
       }
       // The end (or a stop between steps): the state before the next step, so that the run can be extended.
       if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_) {

@@ -181,14 +181,13 @@ class MbdNode {
     send_geometry(step, coupling_dt);
     waiting_ = true;
     while (leader_.pending()) {
-      ros::spinOnce();
+      nodes::wait_for_callbacks(0.01);
       if (!leader_.pending()) break;
       const double now = nodes::wall_now();
       if (nodes::stop_requested() || !ros::ok()) throw std::runtime_error("stopped while waiting for dem_node");
       if (!peer_stopped_.empty()) throw std::runtime_error("dem_node has stopped: " + peer_stopped_);
       leader_.check_timeout(now);
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
-      ros::WallDuration(2e-5).sleep();
     }
     waiting_ = false;
     mech_->set_particle_wrench(BodyId::FloatingCone, wrench_.mantle_force, wrench_.mantle_torque);

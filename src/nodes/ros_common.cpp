@@ -81,6 +81,8 @@ double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback) 
   return fallback;
 }
 
+void wait_for_callbacks(double max_s) { ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(max_s)); }
+
 bool bool_param(ros::NodeHandle& pnh, const std::string& name, bool* value) {
   *value = false;
   return !pnh.hasParam(name) || pnh.getParam(name, *value);

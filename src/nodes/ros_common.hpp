@@ -5,6 +5,7 @@
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/Vector3.h>
 #include <geometry_msgs/Wrench.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 
@@ -46,6 +47,10 @@ class BagRecorder {
 // SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept.
 void install_stop_handler();
 bool stop_requested();
+
+// Runs the callbacks that have arrived; with none, blocks until one arrives or `max_s` passes. Waiting this way
+// instead of polling leaves the CPU to the other node (a 2-core machine runs both).
+void wait_for_callbacks(double max_s);
 
 // Monotonic wall-clock seconds (coupling timeouts, progress, real-time factor).
 double wall_now();
