@@ -184,7 +184,13 @@ class MbdNode {
       nodes::wait_for_callbacks(0.01);
       if (!leader_.pending()) break;
       const double now = nodes::wall_now();
-      if (nodes::stop_requested() || !ros::ok()) throw std::runtime_error("stopped while waiting for dem_node");
+      // A stop while the DEM works on this step: let it finish the step (it stops between steps), apply it, and
+      // stop at the top of the loop, so both nodes checkpoint the same step.
+      if (!ros::ok()) throw std::runtime_error("ROS shut down while waiting for dem_node");
+      if (nodes::stop_requested() && !stop_noted_) {
+        stop_noted_ = true;
+        ROS_WARN("mbd_node: stopping after the step dem_node is working on");
+      }
       if (!peer_stopped_.empty()) throw std::runtime_error("dem_node has stopped: " + peer_stopped_);
       leader_.check_timeout(now);
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
@@ -417,7 +423,7 @@ class MbdNode {
   std::optional<analysis::ProductSummary> product_;
   std::uint64_t last_recorded_step_ = ~0ull;
   std::string peer_stopped_;  // dem_node's reason, when it has stopped
-  bool waiting_ = false;      // inside exchange(): a step was requested and the mechanism has not moved since
+  bool waiting_ = false, stop_noted_ = false;      // inside exchange(): a step was requested and the mechanism has not moved since
   double wall_s_ = 0;
   struct {
     Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();
