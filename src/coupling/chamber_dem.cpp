@@ -166,7 +166,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     }
     force_avg_.add(concave_->region_normal_force(), h);
     force_window_s_ += h;
-    if (p_.crushing.enabled) crush_squeezed();
+    if (p_.crushing.enabled) crush_squeezed(k + 1 == n);
     if (world_->time() >= next_bookkeeping_ - 1e-12) {
       bookkeeping();
       next_bookkeeping_ = world_->time() + p_.bookkeeping_s;
@@ -370,10 +370,25 @@ void ChamberDem::discharge() {
 }
 
 // Metaparticles pressed against a liner beyond their strength leave as fines (metaparticle_crushing.hpp).
-void ChamberDem::crush_squeezed() {
+// Removal forces a neighbour-list rebuild, so spheres found crushed within crushing.batch_s go together
+// (flush: now, e.g. at the end of a coupling interval, so that no pending crush crosses a checkpoint).
+void ChamberDem::crush_squeezed(bool flush) {
   const auto& P = world_->particles();
-  const auto idx = crushed_particles(P, {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()},
-                                     p_.crushing.tensile_strength);
+  for (std::size_t i : crushed_particles(P, {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()},
+                                         p_.crushing.tensile_strength)) {
+    if (pending_crush_.empty()) first_crush_t_ = world_->time();
+    pending_crush_.push_back(P.id[i]);
+  }
+  if (pending_crush_.empty() || (!flush && world_->time() - first_crush_t_ < p_.crushing.batch_s - 1e-15)) return;
+  std::sort(pending_crush_.begin(), pending_crush_.end());
+  pending_crush_.erase(std::unique(pending_crush_.begin(), pending_crush_.end()), pending_crush_.end());
+  std::vector<std::size_t> idx;
+  for (uint64_t id : pending_crush_) {
+    const long i = world_->index_of(id);
+    if (i >= 0) idx.push_back(static_cast<std::size_t>(i));
+  }
+  pending_crush_.clear();
+  std::sort(idx.begin(), idx.end());
   if (idx.empty()) return;
   std::vector<char> remove(P.size(), 0);
   for (std::size_t i : idx) remove[i] = 1;

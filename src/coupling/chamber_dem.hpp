@@ -99,7 +99,7 @@ class ChamberDem {
   void bookkeeping();
   void feed();
   void discharge();
-  void crush_squeezed();
+  void crush_squeezed(bool flush);
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   void add_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q, const Eigen::Vector3d& v);
   void prefill();
@@ -122,6 +122,8 @@ class ChamberDem {
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0, crushed_kg_ = 0;
   long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0;
+  std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
+  double first_crush_t_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])
   std::vector<std::pair<double, double>> discharge_log_;  // (time, mass) for the throughput window
   std::vector<dem::BondBreak> breaks_;

@@ -33,6 +33,7 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
     p.crushing.tensile_strength =
         c.number_or("tensile_strength_MPa", p.crushing.tensile_strength / 1e6, 0.01, 1000, "MPa", 1e6);
     p.crushing.progeny_exponent = c.number_or("progeny_exponent", p.crushing.progeny_exponent, 0.1, 5, "");
+    p.crushing.batch_s = c.number_or("batch_s", p.crushing.batch_s, 0, 0.01, "s");
   }
 
   auto f = dem.child("feed");
