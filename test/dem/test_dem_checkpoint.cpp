@@ -306,13 +306,20 @@ TEST(DemCheckpoint, RestoredWorldContinuesBitwiseOnTwoThreadsAndAcrossThreadCoun
 }
 
 // ------------------------------------------------------------------ damaged or mismatched files
-std::string small_file(bool with_mesh) {
+// A one-thread World with a floor plane (and the belt mesh).
+std::unique_ptr<dem::World> small_world(bool with_mesh) {
   dem::WorldParams wp;
   wp.threads = 1;
-  dem::World w(wp);
+  auto w = std::make_unique<dem::World>(wp);
   const double o[3] = {0, 0, 0}, n[3] = {0, 0, 1};
-  w.add_plane(o, n, 1);
-  if (with_mesh) w.add_interaction(std::make_shared<dem::MeshContact>(belt(), wp.materials, 1));
+  w->add_plane(o, n, 1);
+  if (with_mesh) w->add_interaction(std::make_shared<dem::MeshContact>(belt(), wp.materials, 1));
+  return w;
+}
+
+std::string small_file(bool with_mesh) {
+  auto owner = small_world(with_mesh);
+  dem::World& w = *owner;
   for (int k = 0; k < 4; ++k) {
     const double x[3] = {0.003 * k, 0, 0.0009};
     w.add_particle(x, 1e-3, 0);
@@ -326,12 +333,8 @@ std::string small_file(bool with_mesh) {
 
 // Loads `file` into a World with one floor plane (and the mesh) and returns the error message ("" if none).
 std::string load_error(const std::string& file, bool with_mesh) {
-  dem::WorldParams wp;
-  wp.threads = 1;
-  dem::World w(wp);
-  const double o[3] = {0, 0, 0}, n[3] = {0, 0, 1};
-  w.add_plane(o, n, 1);
-  if (with_mesh) w.add_interaction(std::make_shared<dem::MeshContact>(belt(), wp.materials, 1));
+  auto owner = small_world(with_mesh);
+  dem::World& w = *owner;
   std::istringstream is(file);
   core::BinaryReader br(is, "small.ckpt");
   try {
