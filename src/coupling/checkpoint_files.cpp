@@ -1,6 +1,7 @@
 #include "coupling/checkpoint_files.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -87,6 +88,18 @@ std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const s
   }
   if (!common || common->empty()) return std::nullopt;
   return common->back();
+}
+
+uint64_t resume_step(const std::string& out) {
+  const auto k = latest_common_checkpoint(out, {"mbd", "dem"});
+  if (!k)
+    throw std::runtime_error("~resume: no checkpoint written by both nodes in " + checkpoint_dir(out) +
+                             " (a run writes them with run.checkpoint_every_s > 0)");
+  return *k;
+}
+
+long checkpoint_interval_steps(double every_s, double coupling_dt) {
+  return std::max(1L, std::lround(every_s / coupling_dt));
 }
 
 CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,

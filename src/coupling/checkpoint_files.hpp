@@ -33,6 +33,10 @@ std::vector<uint64_t> checkpoint_steps(const std::string& out, const std::string
 void remove_checkpoints_after(const std::string& out, const std::string& node, uint64_t step);
 // Newest step present for every node ("mbd", "dem"); nullopt when there is none.
 std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const std::vector<std::string>& nodes);
+// The step a resumed coupled run starts from: the newest both nodes wrote. Throws std::runtime_error if none.
+uint64_t resume_step(const std::string& out);
+// Coupling steps between checkpoints for run.checkpoint_every_s (> 0) and the coupling interval.
+long checkpoint_interval_steps(double every_s, double coupling_dt);
 // Opens the checkpoint of `node` at `step`, checks its header and calls `body` with a reader positioned after it.
 // Throws std::runtime_error naming the file on any mismatch. Returns the header.
 CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,

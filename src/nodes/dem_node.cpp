@@ -24,7 +24,6 @@
 #include <cstring>
 #include <unistd.h>
 
-
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
 #include "coupling/checkpoint_files.hpp"
@@ -86,12 +85,7 @@ void tell_leader_early(ros::NodeHandle& nh, const std::string& why) {
   auto pub = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
   const double until = nodes::wall_now() + 2.0;
   while (pub.getNumSubscribers() == 0 && nodes::wall_now() < until) ros::WallDuration(0.05).sleep();
-  inertia_crusher::GeometryWrench w;
-  w.stopped = "could not start: " + why;
-  for (int i = 0; i < 5; ++i) {
-    pub.publish(w);
-    ros::WallDuration(0.05).sleep();
-  }
+  nodes::publish_stopped<inertia_crusher::GeometryWrench>(pub, "could not start: " + why, 0.0);
 }
 
 class DemNode {
@@ -113,7 +107,7 @@ class DemNode {
     pub_map_markers_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/concave_force_markers", 2, true);
     sub_ = nh.subscribe("/crusher/geometry_state", 100, &DemNode::on_state, this, ros::TransportHints().tcpNoDelay());
     ck_steps_ = cfg_.run.checkpoint_every_s > 0 && !out_.empty()
-                    ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+                    ? coupling::checkpoint_interval_steps(cfg_.run.checkpoint_every_s, cfg_.coupling.dt_s) : 0;
     if (cfg_.run.checkpoint_every_s > 0 && out_.empty())
       ROS_WARN("dem_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
     if (resume && out_.empty()) throw std::invalid_argument("~resume needs ~out, the run's folder");
@@ -130,7 +124,7 @@ class DemNode {
           coupling::remove_checkpoints_after(out_, "dem", 0);  // checkpoints are taken after step 0 only
         }
         coupling::remove_bag_segments_from(out_, "dem", resume_step_);
-        bag_.open(coupling::bag_segment_path(out_, "dem", resume_step_));
+        bag_.reopen(coupling::bag_segment_path(out_, "dem", resume_step_));
       }
       const std::string bp = out_ + "/breaks.csv";
       if (resume) {  // the log as it was at the checkpoint, then appended
@@ -166,12 +160,9 @@ class DemNode {
         }
       }
       // The end (or a stop between steps): the state before the next step, so that the run can be extended.
-      if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_) {
-        const std::uint64_t k = *follower_.last_answered() + 1;
-        write_checkpoint(k);
-        bag_.close();  // the final outputs below belong after the checkpoint (a resumed run rewrites them)
-        bag_.open(coupling::bag_segment_path(out_, "dem", k));
-      }
+      // The final outputs below belong after the checkpoint (a resumed run rewrites them).
+      if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_)
+        checkpoint_and_rotate(*follower_.last_answered() + 1);
     } catch (const std::exception& e) {
       ROS_ERROR("dem_node: %s; the bag and the break log are kept", e.what());
       status = 1;
@@ -209,11 +200,7 @@ class DemNode {
         case coupling::Follower::Action::Advance:
           break;
       }
-      if (ck_steps_ && g->step % ck_steps_ == 0 && g->step != last_checkpoint_) {
-        write_checkpoint(g->step);
-        bag_.close();
-        bag_.open(coupling::bag_segment_path(out_, "dem", g->step));
-      }
+      if (ck_steps_ && g->step % ck_steps_ == 0 && g->step != last_checkpoint_) checkpoint_and_rotate(g->step);
       auto [wm, wc] = dem_->advance(motion(g->mantle_pose, g->mantle_twist),
                                     motion(g->concave_pose, g->concave_twist), g->dt);
       last_.header.stamp = ros::Time(g->time + g->dt);
@@ -428,16 +415,16 @@ class DemNode {
 
   // mbd_node waits for each answer: tell it the run is over instead of leaving it to time out.
   void tell_leader(const std::string& why) {
-    inertia_crusher::GeometryWrench w;
-    w.header.stamp = ros::Time(dem_->time());
-    w.stopped = why;
-    for (int i = 0; i < 5; ++i) {
-      pub_wrench_.publish(w);
-      ros::WallDuration(0.05).sleep();
-    }
+    nodes::publish_stopped<inertia_crusher::GeometryWrench>(pub_wrench_, why, dem_->time());
   }
 
   // ---- checkpoints: the DEM state at the start of coupling step k, with what this node adds to it
+  // Checkpoint at step k, then a new bag segment from it.
+  void checkpoint_and_rotate(std::uint64_t k) {
+    write_checkpoint(k);
+    bag_.reopen(coupling::bag_segment_path(out_, "dem", k));
+  }
+
   void write_checkpoint(std::uint64_t k) {
     const double w0 = nodes::wall_now();
     breaks_.flush();
@@ -456,23 +443,19 @@ class DemNode {
 
   // Returns the break log's length at the checkpoint.
   std::streamoff resume_from_checkpoint() {
-    auto k = coupling::latest_common_checkpoint(out_, {"mbd", "dem"});
-    if (!k) {
-      throw std::runtime_error("~resume: no checkpoint written by both nodes in " + coupling::checkpoint_dir(out_) +
-                               " (a run writes them with run.checkpoint_every_s > 0)");
-    }
+    const uint64_t k = coupling::resume_step(out_);
     std::streamoff breaks_size = 0;
-    auto h = coupling::read_checkpoint(out_, "dem", *k, [&](core::BinaryReader& r) {
+    auto h = coupling::read_checkpoint(out_, "dem", k, [&](core::BinaryReader& r) {
       dem_->load_state(r);
       r.expect("NODE");
       r.get(next_output_);
       breaks_size = r.get<int64_t>();
     });
-    follower_.resume_at(*k);
-    resume_step_ = last_checkpoint_ = *k;
-    coupling::remove_checkpoints_after(out_, "dem", *k);
+    follower_.resume_at(k);
+    resume_step_ = last_checkpoint_ = k;
+    coupling::remove_checkpoints_after(out_, "dem", k);
     ROS_INFO("dem_node: resumed from the checkpoint at step %llu (t = %.4f s, %zu particles)",
-             static_cast<unsigned long long>(*k), h.time, dem_->world().particles().size());
+             static_cast<unsigned long long>(k), h.time, dem_->world().particles().size());
     return breaks_size;
   }
 

@@ -22,7 +22,6 @@
 #include <optional>
 #include <sys/stat.h>
 
-
 #include "analysis/run_metrics.hpp"
 #include "core/run_config.hpp"
 #include "coupling/checkpoint_files.hpp"
@@ -74,7 +73,7 @@ class MbdNode {
                                                                                 : mbd::LoadModel::None);
     const bool coupled = cfg_.run.load == "dem";
     ck_steps_ = coupled && cfg_.run.checkpoint_every_s > 0 && !out_.empty()
-                    ? std::max(1L, std::lround(cfg_.run.checkpoint_every_s / cfg_.coupling.dt_s)) : 0;
+                    ? coupling::checkpoint_interval_steps(cfg_.run.checkpoint_every_s, cfg_.coupling.dt_s) : 0;
     if (coupled && cfg_.run.checkpoint_every_s > 0 && out_.empty())
       ROS_WARN("mbd_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
     if (resume) {
@@ -101,7 +100,7 @@ class MbdNode {
       } else {
         if (!resume) clear_own_files();
         coupling::remove_bag_segments_from(out_, "run", resume_step_);  // written after the checkpoint
-        bag_.open(coupling::bag_segment_path(out_, "run", resume_step_));
+        bag_.reopen(coupling::bag_segment_path(out_, "run", resume_step_));
       }
     }
   }
@@ -141,9 +140,7 @@ class MbdNode {
     const bool coupled = cfg_.run.load == "dem";
     const long steps_per_coupling = coupled ? std::max(1L, std::lround(cfg_.coupling.dt_s / dt)) : 1;
     // Samples at t = k / publish_hz, k >= 1 (a bag cannot hold time 0, and sim time 0 means 'no clock yet').
-    if (next_pub_ == 0) next_pub_ = pub_dt, next_tf_ = tf_dt;
-    double& next_pub = next_pub_;
-    double& next_tf = next_tf_;
+    if (next_pub_ == 0) next_pub_ = pub_dt, next_tf_ = tf_dt;  // a resumed run has them from its checkpoint
     double next_progress = 0;
     while (mech_->time() < t_end - 0.5 * dt) {
       if (nodes::stop_requested() || !ros::ok()) {
@@ -157,11 +154,11 @@ class MbdNode {
         mech_->step();
         check_finite();
         const double t = mech_->time();
-        if (t >= next_pub - 1e-9) {
-          bool with_tf = t >= next_tf - 1e-9;
+        if (t >= next_pub_ - 1e-9) {
+          bool with_tf = t >= next_tf_ - 1e-9;
           publish_samples(with_tf);
-          next_pub += pub_dt;
-          if (with_tf) next_tf += tf_dt;
+          next_pub_ += pub_dt;
+          if (with_tf) next_tf_ += tf_dt;
           if (max_rtf_ > 0) {
             double ahead = t / max_rtf_ - (nodes::wall_now() - wall_start_);
             if (ahead > 0) ros::WallDuration(ahead).sleep();
@@ -350,8 +347,7 @@ class MbdNode {
   // Checkpoint at the current step, then a new bag segment from it.
   void checkpoint_and_rotate() {
     write_checkpoint();
-    bag_.close();
-    bag_.open(coupling::bag_segment_path(out_, "run", leader_.completed()));
+    bag_.reopen(coupling::bag_segment_path(out_, "run", leader_.completed()));
   }
 
   void write_checkpoint() {
@@ -379,12 +375,8 @@ class MbdNode {
   }
 
   void resume_from_checkpoint() {
-    auto k = coupling::latest_common_checkpoint(out_, {"mbd", "dem"});
-    if (!k) {
-      throw std::runtime_error("~resume: no checkpoint written by both nodes in " + coupling::checkpoint_dir(out_) +
-                               " (a run writes them with run.checkpoint_every_s > 0)");
-    }
-    auto h = coupling::read_checkpoint(out_, "mbd", *k, [&](core::BinaryReader& r) {
+    const uint64_t k = coupling::resume_step(out_);
+    auto h = coupling::read_checkpoint(out_, "mbd", k, [&](core::BinaryReader& r) {
       mech_->load_state(r);
       r.expect("NODE");
       r.get(next_pub_);
@@ -401,10 +393,10 @@ class MbdNode {
         product_ = p;
       }
     });
-    leader_.resume_at(*k);
-    resume_step_ = last_checkpoint_ = *k;
-    coupling::remove_checkpoints_after(out_, "mbd", *k);
-    ROS_INFO("mbd_node: resumed from the checkpoint at step %llu (t = %.4f s)", static_cast<unsigned long long>(*k),
+    leader_.resume_at(k);
+    resume_step_ = last_checkpoint_ = k;
+    coupling::remove_checkpoints_after(out_, "mbd", k);
+    ROS_INFO("mbd_node: resumed from the checkpoint at step %llu (t = %.4f s)", static_cast<unsigned long long>(k),
              h.time);
   }
 
@@ -423,7 +415,8 @@ class MbdNode {
   std::optional<analysis::ProductSummary> product_;
   std::uint64_t last_recorded_step_ = ~0ull;
   std::string peer_stopped_;  // dem_node's reason, when it has stopped
-  bool waiting_ = false, stop_noted_ = false;      // inside exchange(): a step was requested and the mechanism has not moved since
+  bool waiting_ = false;  // inside exchange(): a step was requested and the mechanism has not moved since
+  bool stop_noted_ = false;
   double wall_s_ = 0;
   struct {
     Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();

@@ -44,6 +44,11 @@ void BagRecorder::open(const std::string& path) {
   open_ = true;
 }
 
+void BagRecorder::reopen(const std::string& path) {
+  close();
+  open(path);
+}
+
 void BagRecorder::close() {
   if (open_) {
     bag_.close();

@@ -35,6 +35,8 @@ class BagRecorder {
     ++count_[topic];
   }
   void close();
+  // Closes the current bag (if any) and opens a new one: the segments of a checkpointed run.
+  void reopen(const std::string& path);
   bool is_open() const { return open_; }
   const std::map<std::string, long>& counts() const { return count_; }
 
@@ -47,6 +49,18 @@ class BagRecorder {
 // SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept.
 void install_stop_handler();
 bool stop_requested();
+
+// Publishes a GeometryWrench saying dem_node has stopped and why, a few times over 0.25 s (mbd_node stops at once).
+template <class WrenchMsg>
+void publish_stopped(ros::Publisher& pub, const std::string& why, double t) {
+  WrenchMsg w;
+  w.header.stamp = ros::Time(t);
+  w.stopped = why;
+  for (int i = 0; i < 5; ++i) {
+    pub.publish(w);
+    ros::WallDuration(0.05).sleep();
+  }
+}
 
 // Runs the callbacks that have arrived; with none, blocks until one arrives or `max_s` passes. Waiting this way
 // instead of polling leaves the CPU to the other node (a 2-core machine runs both).
