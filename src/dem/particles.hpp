@@ -113,10 +113,19 @@ struct Particles {
     id.reserve(n); material.reserve(n); fixed.reserve(n);
   }
 
- private:
+  // Every per-particle double array, in one fixed order (also the order of a checkpoint), and their names.
   std::vector<SVec<double>*> doubles() {
     return {&x, &y, &z, &vx, &vy, &vz, &wx, &wy, &wz, &fx, &fy, &fz, &tx, &ty, &tz, &r, &m, &inv_m, &inv_I};
   }
+  std::vector<const SVec<double>*> doubles() const {
+    return {&x, &y, &z, &vx, &vy, &vz, &wx, &wy, &wz, &fx, &fy, &fz, &tx, &ty, &tz, &r, &m, &inv_m, &inv_I};
+  }
+  static std::vector<std::string> double_names() {
+    return {"x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz", "fx", "fy", "fz", "tx", "ty", "tz", "r", "m", "inv_m",
+            "inv_I"};
+  }
+
+ private:
   void copy_slot(std::size_t from, std::size_t to) {
     for (auto* v : doubles()) (*v)[to] = (*v)[from];
     id[to] = id[from]; material[to] = material[from]; fixed[to] = fixed[from];

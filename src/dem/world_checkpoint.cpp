@@ -65,9 +65,7 @@ void World::save_state(core::BinaryWriter& w) {
 
   w.tag("PART");
   w.put<uint64_t>(p_.next_id);
-  for (const SVec<double>* a : {&p_.x, &p_.y, &p_.z, &p_.vx, &p_.vy, &p_.vz, &p_.wx, &p_.wy, &p_.wz, &p_.fx, &p_.fy,
-                                &p_.fz, &p_.tx, &p_.ty, &p_.tz, &p_.r, &p_.m, &p_.inv_m, &p_.inv_I})
-    w.put_vec(*a);
+  for (const SVec<double>* a : static_cast<const Particles&>(p_).doubles()) w.put_vec(*a);
   w.put_vec(p_.id);
   w.put_vec(p_.material);
   w.put_vec(p_.fixed);
@@ -168,11 +166,9 @@ void World::load_state(core::BinaryReader& r) {
   Particles np;
   np.next_id = r.get<uint64_t>();
   {
-    SVec<double>* arrays[] = {&np.x,  &np.y,  &np.z,  &np.vx, &np.vy, &np.vz, &np.wx, &np.wy, &np.wz, &np.fx,
-                              &np.fy, &np.fz, &np.tx, &np.ty, &np.tz, &np.r,  &np.m,  &np.inv_m, &np.inv_I};
-    const char* names[] = {"x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz", "fx",
-                           "fy", "fz", "tx", "ty", "tz", "r", "m", "inv_m", "inv_I"};
-    for (int a = 0; a < 19; ++a) get_sized(r, *arrays[a], n, std::string("particle array ") + names[a]);
+    const auto arrays = np.doubles();
+    const auto names = Particles::double_names();
+    for (std::size_t a = 0; a < arrays.size(); ++a) get_sized(r, *arrays[a], n, "particle array " + names[a]);
   }
   get_sized(r, np.id, n, "particle ids");
   get_sized(r, np.material, n, "particle materials");
