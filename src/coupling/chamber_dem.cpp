@@ -204,9 +204,12 @@ void ChamberDem::bookkeeping() {
 bool ChamberDem::place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q) {
   const auto& rk = rocks_[shape];
   const auto& P = world_->particles();
-  // The spot must be free: no particle within the rock's bounding sphere plus the largest radius.
+  // The spot must be free: every sphere clear of the liners, and no particle within the rock's bounding sphere
+  // plus its own radius.
   double reach = 0;
   for (std::size_t i = 0; i < rk.size(); ++i) reach = std::max(reach, rk.positions[i].norm() + rk.radii[i]);
+  for (std::size_t i = 0; i < rk.size(); ++i)
+    if (!clear_of_liners(centre + q * rk.positions[i], rk.radii[i])) return false;
   for (std::size_t j = 0; j < P.size(); ++j) {
     const double dx = P.x[j] - centre.x(), dy = P.y[j] - centre.y(), dz = P.z[j] - centre.z();
     const double lim = reach + P.r[j];
@@ -245,6 +248,15 @@ Eigen::Quaterniond ChamberDem::random_orientation() {
   return q.normalized();
 }
 
+bool ChamberDem::clear_of_liners(const Eigen::Vector3d& x, double r) const {
+  const Eigen::Vector3d xc = concave_->mesh().to_body(x), xm = mantle_->mesh().to_body(x);
+  // The concave's and hopper's flat facets lie inside their circle by up to r (1 - cos(pi / sectors)).
+  const double sag = 1.0 - std::cos(kPi / p_.liner_sectors);
+  const double rho_c = std::hypot(xc.x(), xc.y());
+  if (core::signed_distance_inside(outer_, {xc.z(), rho_c}, nullptr) < r + sag * (rho_c + r)) return false;
+  return core::signed_distance_inside(inner_, {xm.z(), std::hypot(xm.x(), xm.y())}, nullptr) <= -r;
+}
+
 // Pre-filled chamber: the feed's rocks, at rest and randomly oriented, placed bottom up in rings of trial
 // positions between the liners (mantle and its cap inside, concave and hopper outside) up to the choke level.
 // A rock goes in when each of its spheres clears both walls and every sphere already placed (random
@@ -266,14 +278,10 @@ void ChamberDem::prefill() {
     return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
   };
   std::unordered_map<long long, std::vector<std::pair<Eigen::Vector3d, double>>> grid;
-  // The concave's flat facets lie inside its circle by up to r (1 - cos(pi / sectors)).
-  const double sag = 1.0 - std::cos(kPi / p_.liner_sectors);
   auto clear = [&](const Eigen::Vector3d& x, double r) {
     const Eigen::Vector3d xc = cm.to_body(x), xm = mm.to_body(x);
     if (xc.z() > z_top_ + p_.feed.choke_height_m - r || xm.z() < inner_.z.front() + r) return false;
-    const double rho_c = std::hypot(xc.x(), xc.y());
-    if (core::signed_distance_inside(outer_, {xc.z(), rho_c}, nullptr) < r + sag * (rho_c + r)) return false;
-    if (core::signed_distance_inside(inner_, {xm.z(), std::hypot(xm.x(), xm.y())}, nullptr) > -r) return false;
+    if (!clear_of_liners(x, r)) return false;
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {

@@ -101,6 +101,9 @@ class ChamberDem {
   void discharge();
   void crush_squeezed(bool flush);
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
+  // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
+  // hopper (allowing for their flat facets) and outside the mantle and its cap.
+  bool clear_of_liners(const Eigen::Vector3d& x, double r) const;
   void add_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q, const Eigen::Vector3d& v);
   void prefill();
   Eigen::Quaterniond random_orientation();

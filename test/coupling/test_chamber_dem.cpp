@@ -158,3 +158,44 @@ TEST(ChamberDem, SpillOutsideTheConcaveIsLostNotProduct) {
   EXPECT_NEAR(s.fed_kg, s.in_chamber_kg + s.discharged_kg + s.lost_kg, 1e-9 * s.fed_kg);
   EXPECT_THROW(dem.add_rock_at(99, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()), std::invalid_argument);
 }
+
+// Choke-fed rocks appear above the chamber top between the mantle cap and the hopper: no sphere of a new rock
+// may start inside a liner. (The full machine's run once placed a rock 0.74 r into the hopper: its feed circle
+// allowed for the rock's nominal size, not for how far an elongated rock's spheres reach.)
+TEST(ChamberDem, ChokeFedRocksStartClearOfTheLiners) {
+  auto p = small_chamber();
+  p.feed.max_fed_kg = 1e9;
+  p.feed.max_rate_kg_s = 1e4;    // the feeder keeps the choke zone full: a rock at every free spot
+  p.bookkeeping_s = 2e-4;
+  p.feed.drop_speed_m_s = 20.0;  // new rocks leave the feed level quickly, making room for more
+  coupling::ChamberDem dem(p);
+  const auto m = at_rest(p.mantle_com_z_m), c = at_rest(p.concave_com_z_m);
+  // Ids added at the end of one step (by the feed) are first stepped, and touch what they were placed in,
+  // in the next one.
+  auto max_id = [&dem] {
+    uint64_t k = 0;
+    for (uint64_t id : dem.world().particles().id) k = std::max(k, id + 1);
+    return k;
+  };
+  uint64_t before = 0, after = max_id();
+  int placed_rocks = 0, bad = 0;
+  double worst = 0;
+  const double h = dem.dt();
+  for (int step = 0; step < 20000 && placed_rocks < 120; ++step) {
+    dem.advance(m, c, h);
+    for (const auto* mc : {&dem.mantle(), &dem.mantle_cap(), &dem.concave(), &dem.hopper()})
+      for (const auto& rec : mc->contacts())
+        if (rec.particle_id >= before && rec.particle_id < after) {
+          ++bad;
+          worst = std::max(worst, rec.overlap / dem.world().particles().r[rec.particle_index]);
+          ADD_FAILURE_AT(__FILE__, __LINE__) << "new particle " << rec.particle_id << " placed " << rec.overlap * 1e3
+                                             << " mm inside '" << mc->mesh().name() << "'";
+          if (bad > 5) return;
+        }
+    before = after;
+    after = max_id();
+    placed_rocks = static_cast<int>(dem.product().fed_kg / dem.rock_mass_kg(0) + 0.5);
+  }
+  std::printf("%d rocks fed, %d placements inside a liner (deepest %.2f r)\n", placed_rocks, bad, worst);
+  EXPECT_GE(placed_rocks, 60);  // enough placements to reach the edges of the feed circle
+}
