@@ -91,6 +91,9 @@ void World::remove_particles(const std::vector<char>& remove) {
     throw std::invalid_argument("dem::World::remove_particles: mask size " + std::to_string(remove.size()) +
                                 " != particle count " + std::to_string(p_.size()));
   resize_per_particle();
+  // A valid neighbour list stays valid without the removed particles (it lists a superset of the pairs within
+  // reach): it is compacted with them instead of rebuilt.
+  const bool keep_list = !need_rebuild_ && skin_ >= 0 && slab_of_.size() == p_.size() && x0_.size() == p_.size();
   std::vector<char> keep(remove.size());
   for (std::size_t i = 0; i < remove.size(); ++i) keep[i] = remove[i] ? 0 : 1;
   const std::size_t nw = walls_.size(), nold = p_.size();
@@ -130,12 +133,34 @@ void World::remove_particles(const std::vector<char>& remove) {
   istart_.assign(p_.size() + 1, 0);
   for (std::size_t q = 0; q < npairs_; ++q) ++istart_[pi_[q] + 1];
   for (std::size_t i = 0; i < p_.size(); ++i) istart_[i + 1] += istart_[i];
+  if (keep_list) {
+    // displacement reference and slabs follow their particles (a slab keeps its owners in index order)
+    for (std::size_t i = 0; i < nold; ++i) {
+      const long a = map[i];
+      if (a < 0) continue;
+      x0_[a] = x0_[i];
+      y0_[a] = y0_[i];
+      z0_[a] = z0_[i];
+      slab_of_[a] = slab_of_[i];
+    }
+    std::size_t m = 0;
+    for (std::size_t s = 0; s + 1 < sstart_.size(); ++s) {
+      const uint32_t b = sstart_[s], e = sstart_[s + 1];
+      sstart_[s] = static_cast<uint32_t>(m);
+      for (uint32_t k = b; k < e; ++k)
+        if (map[sorder_[k]] >= 0) sorder_[m++] = static_cast<uint32_t>(map[sorder_[k]]);
+    }
+    sstart_.back() = static_cast<uint32_t>(m);
+    sorder_.resize(m);
+    slab_of_.resize(p_.size());
+  } else {
+    need_rebuild_ = true;
+  }
+  // (removing particles cannot shorten the stable time step: dt stays checked)
   x0_.resize(p_.size());
   y0_.resize(p_.size());
   z0_.resize(p_.size());
   n_known_ = p_.size();
-  need_rebuild_ = true;
-  dt_checked_ = false;
   for (auto& ia : interactions_) ia->on_reindex(map);
 }
 
@@ -493,7 +518,56 @@ void World::build_slabs() {
   for (uint32_t s = 0; s < ns; ++s) sstart_[s + 1] += sstart_[s];
   sorder_.resize(n);
   cnt_.assign(sstart_.begin(), sstart_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) sorder_[cnt_[slab_of_layer_[layer(i)]]++] = static_cast<uint32_t>(i);
+  slab_of_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    slab_of_[i] = slab_of_layer_[layer(i)];
+    sorder_[cnt_[slab_of_[i]]++] = static_cast<uint32_t>(i);
+  }
+}
+
+bool World::insert_pairs(std::vector<std::pair<uint32_t, uint32_t>>& add) {
+  if (need_rebuild_ || skin_ < 0 || slab_of_.size() != p_.size() || istart_.size() != p_.size() + 1) return false;
+  std::sort(add.begin(), add.end());
+  add.erase(std::unique(add.begin(), add.end()), add.end());
+  std::size_t k = 0;
+  for (const auto& [i, j] : add) {
+    if (i >= j || j >= p_.size()) return false;
+    const uint32_t si = slab_of_[i], sj = slab_of_[j];
+    if ((si > sj ? si - sj : sj - si) > 1) return false;  // pair_forces' blocks rely on adjacent slabs
+    if (!std::binary_search(pj_.begin() + istart_[i], pj_.begin() + istart_[i + 1], j)) add[k++] = {i, j};
+  }
+  add.resize(k);
+  if (add.empty()) return true;
+  // merge from the back: entries after an insertion point move up by the insertions still ahead of them
+  const std::size_t n_old = npairs_, n_new = n_old + add.size();
+  for (auto* v : {&pi_, &pj_}) v->resize(std::max(v->size(), n_new));
+  hist_.resize(std::max(hist_.size(), n_new));
+  touch_.resize(std::max(touch_.size(), n_new));
+  long src = static_cast<long>(n_old) - 1, dst = static_cast<long>(n_new) - 1, a = static_cast<long>(add.size()) - 1;
+  while (a >= 0) {
+    if (src >= 0 && std::make_pair(pi_[src], pj_[src]) > add[a]) {
+      pi_[dst] = pi_[src];
+      pj_[dst] = pj_[src];
+      hist_[dst] = hist_[src];
+      touch_[dst] = touch_[src];
+      --src;
+    } else {
+      pi_[dst] = add[a].first;
+      pj_[dst] = add[a].second;
+      hist_[dst] = {{0, 0, 0}};
+      touch_[dst] = 0;
+      --a;
+    }
+    --dst;
+  }
+  npairs_ = n_new;
+  std::size_t q = 0;
+  uint32_t shift = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    while (q < add.size() && add[q].first == i) ++shift, ++q;
+    istart_[i + 1] += shift;
+  }
+  return true;
 }
 
 // ------------------------------------------------------------------ forces
@@ -735,9 +809,11 @@ void World::bond_forces() {
   long nbroken = 0;
   for (long c : nbr) nbroken += c;
   if (nbroken == 0) return;
+  std::vector<std::pair<uint32_t, uint32_t>> freed;
   for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
     if (!bcode_[b]) continue;
     Bond& bd = bonds_[b];
+    freed.emplace_back(std::min(bd.i, bd.j), std::max(bd.i, bd.j));
     // a breaking bond kept its spring state: the same evaluation again gives its stresses
     Lanes4 xi[3], xj[3], vi[3], vj[3], wi[3], wj[3], fn, ft[3], tn, tt[3], sigma, tau, f[3], ti[3], tj[3];
     const uint32_t i = bd.i, j = bd.j;
@@ -769,9 +845,10 @@ void World::bond_forces() {
     e.tau = tau[0];
     breaks_.push_back(e);
   }
-  // the broken pairs take part in Hertz-Mindlin contact from the next step on
+  // the broken pairs take part in Hertz-Mindlin contact from the next step on: they join the neighbour list
+  // (a rebuild only when they cannot), and the bond index drops them before the next step
   bonds_dirty_ = true;
-  need_rebuild_ = true;
+  if (!insert_pairs(freed)) need_rebuild_ = true;
 }
 
 namespace {
@@ -1025,7 +1102,10 @@ void World::step(long nsteps) {
       std::fill(bad_thr_.begin(), bad_thr_.end(), 1);
       check_blow_up(false);
     }
-    if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_) rebuild();
+    if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_)
+      rebuild();
+    else if (bonds_dirty_)
+      rebuild_bond_csr();  // bonds broke in the last step (their pairs were inserted into the list)
     lap(1);
     t_ += prm_.dt;
     pair_forces();

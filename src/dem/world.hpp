@@ -169,6 +169,9 @@ class World {
   void gather_forces(bool kick, bool drift);
   void move_walls();
   void build_slabs();
+  // Adds pairs (i < j, not yet listed) to the neighbour list without a rebuild; false (nothing changed) when the
+  // list is stale or a pair spans more than adjacent slabs. Used for bonds that just broke.
+  bool insert_pairs(std::vector<std::pair<uint32_t, uint32_t>>& add);
   [[noreturn]] void blow_up(long culprit, double overlap, const std::string& what);
   void check_blow_up(bool walls);
   bool bonded(uint32_t i, uint32_t j) const;
@@ -190,7 +193,7 @@ class World {
   SVec<uint32_t> istart_;
   // slabs of cell layers along the grid's longest axis (set at each build): a pair's particles lie in the same
   // or adjacent slabs; owners of slab s are sorder_[sstart_[s] .. sstart_[s+1]) in index order
-  SVec<uint32_t> sorder_, sstart_, slab_of_layer_;
+  SVec<uint32_t> sorder_, sstart_, slab_of_layer_, slab_of_;  // slab_of_: per particle
   // double buffers for the rebuild
   SVec<uint32_t> pj2_, pi2_, cnt_;
   SVec<std::array<double, 3>> hist2_;
