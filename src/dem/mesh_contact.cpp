@@ -73,7 +73,16 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   double rmax = 0.0;
 #pragma omp parallel for reduction(max : rmax) schedule(static) num_threads(nthreads)
   for (long i = 0; i < n; ++i) rmax = std::max(rmax, p.r[i]);
-  if (n > 0 && (grid_.empty() || rmax > grid_.margin())) grid_ = TriangleGrid(mesh_, 1.05 * rmax, grid_cell_);
+  if (n > 0 && (grid_.empty() || rmax + skin_ > grid_.margin())) {
+    skin_ = skin_fraction_ * rmax;
+    grid_ = TriangleGrid(mesh_, 1.05 * rmax + skin_, grid_cell_);
+    far_.assign(n, 0);
+  }
+  // particles added since the last step are evaluated (removals remap in on_reindex)
+  if (far_.size() != static_cast<std::size_t>(n)) far_.resize(n, 0);
+  c0_.resize(n);
+  const double half_skin2 = 0.25 * skin_ * skin_;
+  long evaluated = 0;
 
   if (static_cast<int>(per_thread_.size()) < nthreads) per_thread_.resize(nthreads);
   for (auto& buf : per_thread_) buf.clear();
@@ -92,22 +101,28 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
     static thread_local std::vector<Candidate> cand;
     static thread_local std::vector<int> kept;
     static thread_local std::vector<char> claimed;
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) reduction(+ : evaluated)
     for (long i = 0; i < n; ++i) {
       const Eigen::Vector3d xw(p.x[i], p.y[i], p.z[i]);
       const Eigen::Vector3d c = Rt * (xw - origin);
+      if (far_[i] && (c - c0_[i]).squaredNorm() < half_skin2) continue;  // no triangle within r + skin / 2
+      ++evaluated;
+      c0_[i] = c;
+      far_[i] = skin_ > 0;
       auto range = grid_.query(c);
       if (range.first == range.second) continue;
-      const double r = p.r[i];
+      const double r = p.r[i], rs = r + skin_;
       cand.clear();
       for (const int* it = range.first; it != range.second; ++it) {
         const double* pl = &plane_[4 * static_cast<size_t>(*it)];
         const double h = pl[0] * c.x() + pl[1] * c.y() + pl[2] * c.z() + pl[3];
-        if (h >= r || h <= -r) continue;
+        if (h >= rs || h <= -rs) continue;
         const TriData& T = tri_[*it];
         const ClosestPoint cp = closest_point_on_triangle(c, T.a, T.b, T.c);
         const double d2 = (c - cp.point).squaredNorm();
-        if (d2 >= r * r) continue;
+        if (d2 >= rs * rs) continue;
+        far_[i] = 0;
+        if (h >= r || h <= -r || d2 >= r * r) continue;
         cand.push_back({*it, cp.feature, cp.index, cp.point, std::sqrt(d2)});
       }
       if (cand.empty()) continue;
@@ -230,6 +245,7 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
                                 std::to_string(bad_material.load()) + " and wall material " +
                                 std::to_string(wall_material_) + "; set it with MaterialTable::set_pair");
 
+  evaluated_ = evaluated;
   // Serial, ordered reduction (thread blocks are contiguous in particle order).
   contacts_.clear();
   for (int t = 0; t < nthreads; ++t)
@@ -260,6 +276,21 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
   std::sort(old_.begin(), old_.end(), [](const Old& a, const Old& b) {
     return a.id != b.id ? a.id < b.id : a.tri < b.tri;
   });
+}
+
+void MeshContact::on_reindex(const std::vector<long>& old_to_new) {
+  // the skip state follows its particles; contacts() keep the old indices until the next step
+  for (std::size_t i = 0; i < old_to_new.size() && i < far_.size(); ++i) {
+    const long a = old_to_new[i];
+    if (a < 0) continue;
+    far_[a] = far_[i];
+    c0_[a] = c0_[i];
+  }
+  // survivors of the known particles come first (the map keeps the order); particles added since are evaluated
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < old_to_new.size() && i < far_.size(); ++i) k += old_to_new[i] >= 0;
+  far_.resize(k);
+  c0_.resize(k);
 }
 
 // ------------------------------------------------------------------ checkpoint
@@ -343,6 +374,9 @@ void MeshContact::load_state(core::BinaryReader& r) {
   mesh_.set_twist(twist);
   grid_cell_ = cell;
   grid_ = has_grid ? TriangleGrid(mesh_, margin, grid_cell_) : TriangleGrid();
+  skin_ = has_grid ? skin_fraction_ * margin / (1.05 + skin_fraction_) : 0.0;  // margin = 1.05 rmax + skin
+  far_.clear();  // every particle is evaluated at the next step
+  c0_.clear();
   old_ = std::move(old);
   contacts_.clear();
   force_ = force;
