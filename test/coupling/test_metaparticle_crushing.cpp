@@ -19,6 +19,7 @@ std::shared_ptr<dem::MeshContact> plate(const dem::World& w, double z, const std
   dem::Pose p;
   p.position = Eigen::Vector3d(0, 0, z);
   m->set_pose(p);
+  m->set_threads(1);  // one sphere: a thread team would only add its barriers to each of many steps
   return m;
 }
 
@@ -49,6 +50,7 @@ TEST(MetaparticleCrushing, ProgenyFollowsGaudinSchuhmannBelowTheParentSize) {
 TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
   dem::WorldParams wp;
   wp.dt = 1e-6;
+  wp.threads = 1;
   dem::World w(wp);
   const double r = 6e-3, sigma = 3.77e6, v = 0.02;
   auto floor = plate(w, 0.0, "floor"), ceiling = plate(w, 2 * r + 1e-5, "ceiling");
