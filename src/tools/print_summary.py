@@ -15,21 +15,30 @@ def fmt(v, nd=2):
 
 def main(path):
     s = json.load(open(path))
+    # cycle statistics of a run too short for one whole drive cycle after the settle are not zeros: n/a
+    cycles = s["power_kW"].get("cycles", 1)
+
+    def cyc(stat):
+        return stat if cycles > 0 else None
+
     rpm = s.get("drive_speed_rad_s", {}).get("mean", 0) * 60 / (2 * 3.141592653589793)
     ref = PAPER.get(min(PAPER, key=lambda r: abs(r - rpm))) if rpm > 0 else None
     psd = s.get("psd")
     rows = [
-        ("amplitude x, mean (mm)", s["amplitude_x_mm"]["mean"], "amp"),
-        ("amplitude x, std (mm)", s["amplitude_x_mm"]["std"], None),
-        ("amplitude y, mean (mm)", s["amplitude_y_mm"]["mean"], None),
-        ("amplitude z, mean (mm)", s["amplitude_z_mm"]["mean"], None),
-        ("power draw, mean (kW)", s["power_kW"]["mean"], "power"),
-        ("power draw, std (kW)", s["power_kW"]["std"], None),
+        ("amplitude x, mean (mm)", cyc(s["amplitude_x_mm"]["mean"]), "amp"),
+        ("amplitude x, std (mm)", cyc(s["amplitude_x_mm"]["std"]), None),
+        ("amplitude y, mean (mm)", cyc(s["amplitude_y_mm"]["mean"]), None),
+        ("amplitude z, mean (mm)", cyc(s["amplitude_z_mm"]["mean"]), None),
+        ("power draw, mean (kW)", cyc(s["power_kW"]["mean"]), "power"),
+        ("power draw, std (kW)", cyc(s["power_kW"]["std"]), None),
         ("throughput (t/h)", s.get("throughput_tph"), "tph"),
-        ("specific energy (kWh/t)", s.get("specific_energy_kWh_per_t"), "se"),
+        ("specific energy (kWh/t)", cyc(s.get("specific_energy_kWh_per_t")), "se"),
     ]
-    print(f"\nRun summary ({s.get('config', '')}, load {s.get('load', '')}, drive {rpm:.0f} rpm, "
+    drive = f"{rpm:.0f} rpm" if cycles > 0 else "n/a"
+    print(f"\nRun summary ({s.get('config', '')}, load {s.get('load', '')}, drive {drive}, "
           f"{s['simulated_s']:.2f} s simulated in {s['wall_s']:.1f} s)")
+    if cycles == 0:
+        print("no whole drive cycle after the settle yet: amplitude, power and specific energy are n/a")
     head = "EXP / paper SIM" + (f" ({min(PAPER, key=lambda r: abs(r - rpm))} rpm)" if ref else "")
     print(f"{'quantity':<28}{'this run':>12}   {head}")
     for name, v, key in rows:
