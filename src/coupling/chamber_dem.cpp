@@ -378,7 +378,7 @@ void ChamberDem::discharge() {
 }
 
 // Metaparticles pressed against a liner beyond their strength leave as fines (metaparticle_crushing.hpp).
-// Removal forces a neighbour-list rebuild, so spheres found crushed within crushing.batch_s go together
+// Each removal compacts the particle arrays, so spheres found crushed within crushing.batch_s go together
 // (flush: now, e.g. at the end of a coupling interval, so that no pending crush crosses a checkpoint).
 void ChamberDem::crush_squeezed(bool flush) {
   const auto& P = world_->particles();

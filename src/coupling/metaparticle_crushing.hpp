@@ -23,8 +23,8 @@ struct CrushingParams {
   bool enabled = false;
   double tensile_strength = 3.77e6;  // Pa, sigma_t of the rock (Brazilian test, Eq. 26)
   double progeny_exponent = 1.0;     // n of the Gaudin-Schuhmann progeny distribution
-  // Spheres found crushed within this time leave together (each removal rebuilds the neighbour list; with tens
-  // of crushes per millisecond in a full chamber, one by one took 40 % of the run). Meanwhile a crushed sphere
+  // Spheres found crushed within this time leave together (each removal compacts the particle arrays and the
+  // neighbour list; before removals stopped forcing a list rebuild, one by one took 40 % of a full chamber's run). Meanwhile a crushed sphere
   // still carries load: its overlap grows by at most the closing speed x batch_s. 0: at once.
   double batch_s = 0.0;
 };

@@ -280,15 +280,15 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
 
 void MeshContact::on_reindex(const std::vector<long>& old_to_new) {
   // the skip state follows its particles; contacts() keep the old indices until the next step
+  // survivors of the known particles come first (the map keeps the order); particles added since are evaluated
+  std::size_t k = 0;
   for (std::size_t i = 0; i < old_to_new.size() && i < far_.size(); ++i) {
     const long a = old_to_new[i];
     if (a < 0) continue;
     far_[a] = far_[i];
     c0_[a] = c0_[i];
+    ++k;
   }
-  // survivors of the known particles come first (the map keeps the order); particles added since are evaluated
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < old_to_new.size() && i < far_.size(); ++i) k += old_to_new[i] >= 0;
   far_.resize(k);
   c0_.resize(k);
 }
