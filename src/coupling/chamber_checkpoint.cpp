@@ -19,7 +19,7 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                         p.bookkeeping_s, static_cast<double>(p.rings), static_cast<double>(p.sectors),
                         b.kn, b.kt, b.sigma_c, b.tau_c, b.disk_radius, b.reference_radius, b.damping,
                         p.crushing.enabled ? 1.0 : 0.0, p.crushing.tensile_strength, p.crushing.progeny_exponent,
-                        p.crushing.batch_s};
+                        p.crushing.batch_s, p.crushing.fragments ? 1.0 : 0.0, p.crushing.min_fragment_m};
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));
@@ -43,6 +43,7 @@ void ChamberDem::save_state(core::BinaryWriter& w) {
   w.put<int64_t>(broken_total_);
   w.put(crushed_kg_);
   w.put<int64_t>(crushed_count_);
+  w.put<int64_t>(fragmented_count_);
   w.put_vec(screened_kg_);
   std::vector<double> log;
   for (const auto& [t, m] : discharge_log_) log.push_back(t), log.push_back(m);
@@ -80,6 +81,7 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   broken_total_ = r.get<int64_t>();
   r.get(crushed_kg_);
   crushed_count_ = r.get<int64_t>();
+  fragmented_count_ = r.get<int64_t>();
   r.get_vec(screened_kg_);
   if (screened_kg_.size() != p_.sieves_m.size() + 1) r.fail("sieve classes differ from this configuration");
   std::vector<double> log;

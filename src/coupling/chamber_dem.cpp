@@ -8,6 +8,7 @@
 #include "dem/fragments.hpp"
 #include "dem/mesh_liners.hpp"
 #include "dem/revolution.hpp"
+#include "dem/time_step.hpp"
 #include "rocks/shape.hpp"
 
 namespace coupling {
@@ -87,6 +88,9 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   }
   wp.dt = dt;
   dt_max_ = dt;
+  rock_density_ = wp.materials.material(kRock).density;
+  // Smallest sphere of rock density whose Rayleigh step keeps this step stable (fragments of crushed spheres).
+  fragment_min_radius_ = dt / (wp.max_rayleigh_fraction * dem::rayleigh_time_step(1.0, wp.materials.material(kRock)));
   world_ = std::make_unique<dem::World>(wp);
 
   // Liners from the shared geometry (the concave refined at the force-map ring boundaries), plus a
@@ -370,20 +374,28 @@ void ChamberDem::discharge() {
     discharged_kg_ += f.mass;
     ++fragments_out_;
     discharge_log_.emplace_back(world_->time(), f.mass);
-    std::size_t k = std::lower_bound(p_.sieves_m.begin(), p_.sieves_m.end(), f.sieve_size * (1 - 1e-12)) -
+    double sieve = f.sieve_size;
+    const auto& members = frags.members(f.label);
+    if (members.size() == 1) {  // a crushed sphere's fragment stands for a lump of its mass (metaparticle_crushing.hpp)
+      const long i = world_->index_of(members.front());
+      if (i >= 0) sieve = std::max(sieve, sieve * equivalent_diameter(P.m[i], rock_density_) / (2.0 * P.r[i]));
+    }
+    std::size_t k = std::lower_bound(p_.sieves_m.begin(), p_.sieves_m.end(), sieve * (1 - 1e-12)) -
                     p_.sieves_m.begin();
     screened_kg_[k] += f.mass;
   }
   if (!remove.empty()) world_->remove_particles_by_id(remove);
 }
 
-// Metaparticles pressed against a liner beyond their strength leave as fines (metaparticle_crushing.hpp).
-// Each removal compacts the particle arrays, so spheres found crushed within crushing.batch_s go together
-// (flush: now, e.g. at the end of a coupling interval, so that no pending crush crosses a checkpoint).
+// Metaparticles pressed against a liner beyond their strength break (metaparticle_crushing.hpp): into four
+// fragments that stay in the bed (crushing.fragments, while a fragment is at least min_fragment_m and its sphere
+// keeps the stable step), else into fines that leave at once. Each removal compacts the particle arrays, so
+// spheres found crushed within crushing.batch_s go together (flush: now, e.g. at the end of a coupling
+// interval, so that no pending crush crosses a checkpoint).
 void ChamberDem::crush_squeezed(bool flush) {
   const auto& P = world_->particles();
   for (std::size_t i : crushed_particles(P, {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()},
-                                         p_.crushing.tensile_strength)) {
+                                         p_.crushing.tensile_strength, rock_density_)) {
     if (pending_crush_.empty()) first_crush_t_ = world_->time();
     pending_crush_.push_back(P.id[i]);
   }
@@ -414,17 +426,37 @@ void ChamberDem::crush_squeezed(bool flush) {
     breaks_.push_back(br);
     ++broken_total_;
   }
+  struct Fragment {
+    Eigen::Vector3d x, v, w;
+    double r, rho;
+  };
+  std::vector<Fragment> born;
   double mass = 0;
   for (std::size_t i : idx) {
-    const auto cls = progeny_by_class(P.m[i], 2.0 * P.r[i], p_.sieves_m, p_.crushing.progeny_exponent);
+    const double d = equivalent_diameter(P.m[i], rock_density_);
+    const double r_f = P.r[i] / (1.0 + std::sqrt(1.5));
+    const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
+    // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger.
+    if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m &&
+        r_f * std::sqrt(rho_f / rock_density_) >= fragment_min_radius_) {
+      const auto set = tetrahedral_fragments(P.r[i], random_orientation().toRotationMatrix());
+      const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
+      for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f});
+      ++fragmented_count_;
+      continue;
+    }
+    const auto cls = progeny_by_class(P.m[i], d, p_.sieves_m, p_.crushing.progeny_exponent);
     for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
     mass += P.m[i];
+    ++crushed_count_;
   }
-  discharged_kg_ += mass;
-  crushed_kg_ += mass;
-  crushed_count_ += static_cast<long>(idx.size());
-  discharge_log_.emplace_back(world_->time(), mass);
+  if (mass > 0) {
+    discharged_kg_ += mass;
+    crushed_kg_ += mass;
+    discharge_log_.emplace_back(world_->time(), mass);
+  }
   world_->remove_particles(remove);
+  for (const auto& f : born) world_->add_particle(f.x.data(), f.r, kRock, f.rho, f.v.data(), f.w.data());
 }
 
 ProductState ChamberDem::product() const {
@@ -444,6 +476,7 @@ ProductState ChamberDem::product() const {
   s.lost_kg = lost_kg_;
   s.crushed_kg = crushed_kg_;
   s.metaparticles_crushed = crushed_count_;
+  s.metaparticles_fragmented = fragmented_count_;
   const auto& P = world_->particles();
   for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
   const double t = world_->time(), w = std::min(p_.throughput_window_s, t);

@@ -37,7 +37,8 @@ struct ProductState {
   std::vector<double> sieve_m, passing_pct;  // cumulative mass passing, ascending sieves
   double fed_kg = 0, discharged_kg = 0, in_chamber_kg = 0, lost_kg = 0;
   double crushed_kg = 0;  // part of discharged_kg: metaparticles crushed to fines (metaparticle_crushing.hpp)
-  long metaparticles_crushed = 0;
+  long metaparticles_crushed = 0;     // crushed to fines (their mass is crushed_kg)
+  long metaparticles_fragmented = 0;  // crushed into four fragments that stayed in the chamber (crushing.fragments)
   double throughput_kg_s = 0;  // discharged mass rate over the last window
   long fragments_discharged = 0;
 };
@@ -84,6 +85,9 @@ class ChamberDem {
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
+  // Smallest sphere of rock density the stable step allows; a fragment (crushing.fragments), denser, may be
+  // smaller by sqrt(its density / the rock's), else it leaves as fines.
+  double fragment_min_radius() const { return fragment_min_radius_; }
   // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
   void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
 
@@ -122,9 +126,10 @@ class ChamberDem {
   double prefilled_kg_ = 0;
   double deepest_liner_overlap_ = 0;
   double dt_max_ = 0;
+  double rock_density_ = 0, fragment_min_radius_ = 0;
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0, crushed_kg_ = 0;
-  long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0;
+  long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0, fragmented_count_ = 0;
   std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
   double first_crush_t_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])

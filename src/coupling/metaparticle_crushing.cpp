@@ -7,8 +7,21 @@ namespace coupling {
 
 double crushing_force(double d, double tensile_strength) { return M_PI * d * d * tensile_strength / 2.8; }
 
+double equivalent_diameter(double m, double rho) { return std::cbrt(6.0 * m / (M_PI * rho)); }
+
+FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& rotation) {
+  // Four equal spheres touching each other and the parent's surface: r_f = r / (1 + sqrt(3/2)), centres at
+  // r - r_f from the parent's centre along the vertices of a regular tetrahedron.
+  static const double v[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+  FragmentSet f;
+  f.radius = parent_radius / (1.0 + std::sqrt(1.5));
+  const double d = (parent_radius - f.radius) / std::sqrt(3.0);
+  for (int k = 0; k < 4; ++k) f.offset[k] = d * (rotation * Eigen::Vector3d(v[k][0], v[k][1], v[k][2]));
+  return f;
+}
+
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
-                                           double tensile_strength) {
+                                           double tensile_strength, double rho) {
   std::vector<std::size_t> out;
   std::vector<std::pair<std::size_t, double>> load;  // (particle, normal force) per contact with one mesh
   for (const auto* mc : meshes) {
@@ -23,7 +36,7 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
       std::size_t b = a;
       double f = 0;
       for (; b < load.size() && load[b].first == load[a].first; ++b) f += load[b].second;
-      if (f > crushing_force(2.0 * P.r[load[a].first], tensile_strength)) out.push_back(load[a].first);
+      if (f > crushing_force(equivalent_diameter(P.m[load[a].first], rho), tensile_strength)) out.push_back(load[a].first);
       a = b;
     }
   }

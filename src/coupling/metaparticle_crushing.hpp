@@ -11,8 +11,17 @@
 // The fines are far smaller than the setting and pass straight through: the sphere leaves the DEM and its
 // mass joins the product with a Gaudin-Schuhmann progeny distribution below its size d:
 //   passing(x) = (x / d)^n  for x < d.
+// With `fragments` on, a crushed sphere is replaced instead (particle replacement, as in DEM crusher models
+// after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
+// with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
+// fragments stay in the bed, carry load and are crushed again; a fragment finer than min_fragment_m (by its
+// mass-equivalent size) leaves as fines as above. Sizes (strength, progeny, screening) are mass-equivalent:
+//   d_eq = (6 m / (pi rho_rock))^(1/3).
+#include <array>
 #include <cstddef>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "dem/mesh_contact.hpp"
 #include "dem/particles.hpp"
@@ -27,15 +36,29 @@ struct CrushingParams {
   // neighbour list; before removals stopped forcing a list rebuild, one by one took 40 % of a full chamber's run). Meanwhile a crushed sphere
   // still carries load: its overlap grows by at most the closing speed x batch_s. 0: at once.
   double batch_s = 0.0;
+  bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
+  double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
 };
+
+// Mass-equivalent diameter of a sphere of mass m of rock of density rho (m).
+double equivalent_diameter(double m, double rho);
+
+// A crushed sphere's four fragments: radius (m) and centre offsets from the parent's centre (m), a regular
+// tetrahedron turned by `rotation` (a rotation matrix).
+struct FragmentSet {
+  double radius = 0;
+  std::array<Eigen::Vector3d, 4> offset;
+};
+FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& rotation);
 
 // F_c of a sphere of diameter d (N).
 double crushing_force(double d, double tensile_strength);
 
 // Indices (ascending, unique) of the particles pressed against one of the meshes harder than their F_c
-// in the meshes' last step (normal forces summed over the facets of a mesh the particle touches).
+// (of their mass-equivalent size for rock density rho) in the meshes' last step (normal forces summed over
+// the facets of a mesh the particle touches).
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
-                                           double tensile_strength);
+                                           double tensile_strength, double rho);
 
 // A crushed sphere's mass split over the sieve classes of ascending `sieves` (m): entry k holds the mass between
 // sieves[k-1] and sieves[k] (entry 0: below sieves[0]); the last entry (index sieves.size()) holds what is above

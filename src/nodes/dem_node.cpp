@@ -99,6 +99,11 @@ class DemNode {
                dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k));
     }
     ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
+    const auto& cr = cfg_.chamber.crushing;
+    if (cr.enabled && cr.fragments)
+      ROS_INFO("dem_node: crushed spheres break into 4 fragments while these are >= %.1f mm (mass-equivalent) and "
+               "their spheres stable at the step (as a rock sphere >= %.2f mm in radius); finer ones leave as fines",
+               cr.min_fragment_m * 1e3, dem_->fragment_min_radius() * 1e3);
     pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
     pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);
     pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
@@ -174,9 +179,11 @@ class DemNode {
     write_trajectories();
     const auto p = dem_->product();
     ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg "
-             "(%.2f kg of it %ld metaparticles crushed to fines), %.1f %% of the wall time in coupling waits",
+             "(%.2f kg of it %ld metaparticles crushed to fines; %ld crushed into fragments that stayed), "
+             "%.1f %% of the wall time in coupling waits",
              dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
-             p.crushed_kg, p.metaparticles_crushed, 100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
+             p.crushed_kg, p.metaparticles_crushed, p.metaparticles_fragmented,
+             100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
     return status;
   }
 

@@ -50,13 +50,12 @@ void expect_same_particles(const dem::Particles& a, const dem::Particles& b) {
     ASSERT_TRUE(a.x[i] == b.x[i] && a.y[i] == b.y[i] && a.z[i] == b.z[i]) << "position of particle " << a.id[i];
     ASSERT_TRUE(a.vx[i] == b.vx[i] && a.vy[i] == b.vy[i] && a.vz[i] == b.vz[i]) << "velocity of " << a.id[i];
     ASSERT_TRUE(a.wx[i] == b.wx[i] && a.wy[i] == b.wy[i] && a.wz[i] == b.wz[i]) << "spin of " << a.id[i];
+    ASSERT_TRUE(a.r[i] == b.r[i] && a.m[i] == b.m[i] && a.inv_I[i] == b.inv_I[i]) << "size or mass of " << a.id[i];
   }
 }
 
-}  // namespace
-
-TEST(ChamberCheckpoint, RestoredRunContinuesBitForBit) {
-  const auto p = small_filled_chamber();
+// Runs p for 40 steps, saves, runs 40 more; a second chamber restored from the file runs the same 40 steps.
+void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p) {
   coupling::ChamberDem a(p);
   Record before;
   run_steps(a, p, 0, 40, &before);
@@ -101,8 +100,28 @@ TEST(ChamberCheckpoint, RestoredRunContinuesBitForBit) {
   EXPECT_GT(fed_saved, a.prefilled_kg());
   EXPECT_GT(pa.fed_kg, fed_saved);
   EXPECT_GT(ra.breaks.size(), 0u);
-  std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it\n", file.str().size(),
-              a.world().particles().size(), a.world().bonds().size(), ra.breaks.size());
+  EXPECT_EQ(pa.metaparticles_crushed, pb.metaparticles_crushed);
+  EXPECT_EQ(pa.metaparticles_fragmented, pb.metaparticles_fragmented);
+  EXPECT_EQ(pa.crushed_kg, pb.crushed_kg);
+  std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it; %ld crushed to fines, "
+              "%ld to fragments\n", file.str().size(), a.world().particles().size(), a.world().bonds().size(),
+              ra.breaks.size(), pa.metaparticles_crushed, pa.metaparticles_fragmented);
+}
+
+}  // namespace
+
+TEST(ChamberCheckpoint, RestoredRunContinuesBitForBit) { expect_restored_run_continues_bit_for_bit(small_filled_chamber()); }
+
+// With metaparticle crushing into fragments (heavier than their spheres, drawn on the random generator): the
+// fragments' masses and the crushing counts are part of the state.
+TEST(ChamberCheckpoint, RestoredRunWithCrushingIntoFragmentsContinuesBitForBit) {
+  auto p = small_filled_chamber();
+  p.crushing.enabled = true;
+  p.crushing.fragments = true;
+  p.crushing.tensile_strength = 0.5e6;  // F_c(8 mm) = 36 N: the gyration crushes many
+  p.crushing.min_fragment_m = 4e-3;
+  p.crushing.batch_s = 2e-4;
+  expect_restored_run_continues_bit_for_bit(p);
 }
 
 TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
