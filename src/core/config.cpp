@@ -99,7 +99,7 @@ double ConfigNode::number(const std::string& key, double lo, double hi, const st
 
 double ConfigNode::number_or(const std::string& key, double fallback, double lo, double hi,
                              const std::string& unit, double scale) const {
-  return has(key) ? number(key, lo, hi, unit, scale) : fallback;
+  return has(key) ? number(key, lo, hi, unit, scale) : fallback * scale;
 }
 
 int ConfigNode::integer(const std::string& key, long lo, long hi) const {

@@ -33,6 +33,7 @@ class ConfigNode {
   // Required number in [lo, hi]; `scale` converts the file's unit to SI (e.g. 1e3 for N/mm -> N/m).
   double number(const std::string& key, double lo, double hi, const std::string& unit = "",
                 double scale = 1.0) const;
+  // Optional number; `fallback` is in the file's unit too (converted like a given value).
   double number_or(const std::string& key, double fallback, double lo, double hi,
                    const std::string& unit = "", double scale = 1.0) const;
   int integer(const std::string& key, long lo, long hi) const;

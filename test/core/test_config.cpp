@@ -27,6 +27,16 @@ TEST(Config, ReadsNumbersAndConvertsUnits) {
   EXPECT_NO_THROW(root.finish());
 }
 
+// An absent optional key takes its fallback, given in the file's unit and converted like a given value
+// (the fallback was once returned unconverted: a default 40 mm became 40 m).
+TEST(Config, OptionalNumberFallbackIsConvertedLikeAGivenValue) {
+  auto root = ConfigNode::load_string("a:\n  given_mm: 40\n");
+  auto a = root.child("a");
+  EXPECT_DOUBLE_EQ(a.number_or("given_mm", 7.0, 0, 100, "mm", 1e-3), 0.040);
+  EXPECT_DOUBLE_EQ(a.number_or("absent_mm", 40.0, 0, 100, "mm", 1e-3), 0.040);
+  EXPECT_DOUBLE_EQ(a.number_or("absent_s", 2.5, 0, 100, "s"), 2.5);
+}
+
 TEST(Config, PowerLawStiffnessConversion) {
   // Table 1: k = 1e5 N/mm^1.5 -> F(1 mm) = 1e5 N; in SI F(1e-3 m) must be the same 1e5 N.
   double k_si = core::units::power_law_stiffness_to_si(1e5, 1.5);
