@@ -396,7 +396,6 @@ void ChamberDem::crush_squeezed(bool flush) {
   const auto& P = world_->particles();
   for (std::size_t i : crushed_particles(P, {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()},
                                          p_.crushing.tensile_strength, rock_density_)) {
-    if (p_.crushing.fragments && p_.crushing.finest_stay && !can_fragment(P.m[i], P.r[i])) continue;
     if (pending_crush_.empty()) first_crush_t_ = world_->time();
     pending_crush_.push_back(P.id[i]);
   }
@@ -435,9 +434,12 @@ void ChamberDem::crush_squeezed(bool flush) {
   double mass = 0;
   for (std::size_t i : idx) {
     const double d = equivalent_diameter(P.m[i], rock_density_);
-    if (p_.crushing.fragments && can_fragment(P.m[i], P.r[i])) {
+    const double r_f = P.r[i] / (1.0 + std::sqrt(1.5));
+    const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
+    // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger.
+    if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m &&
+        r_f * std::sqrt(rho_f / rock_density_) >= fragment_min_radius_) {
       const auto set = tetrahedral_fragments(P.r[i], random_orientation().toRotationMatrix());
-      const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * std::pow(set.radius, 3));
       const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
       for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f});
       ++fragmented_count_;
@@ -455,14 +457,6 @@ void ChamberDem::crush_squeezed(bool flush) {
   }
   world_->remove_particles(remove);
   for (const auto& f : born) world_->add_particle(f.x.data(), f.r, kRock, f.rho, f.v.data(), f.w.data());
-}
-
-bool ChamberDem::can_fragment(double m, double r) const {
-  const double r_f = r / (1.0 + std::sqrt(1.5));
-  const double rho_f = 0.25 * m / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
-  // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger.
-  return equivalent_diameter(m, rock_density_) / std::cbrt(4.0) >= p_.crushing.min_fragment_m &&
-         r_f * std::sqrt(rho_f / rock_density_) >= fragment_min_radius_;
 }
 
 ProductState ChamberDem::product() const {

@@ -104,7 +104,6 @@ class ChamberDem {
   void feed();
   void discharge();
   void crush_squeezed(bool flush);
-  bool can_fragment(double m, double r) const;  // a crushed sphere of mass m, radius r makes fragments
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
   // hopper (allowing for their flat facets) and outside the mantle and its cap.

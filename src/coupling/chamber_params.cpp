@@ -37,7 +37,6 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
     p.crushing.fragments = c.boolean_or("fragments", p.crushing.fragments);
     p.crushing.min_fragment_m =
         c.number_or("min_fragment_mm", p.crushing.min_fragment_m / u::mm, 0.1, 1000, "mm", u::mm);
-    p.crushing.finest_stay = c.boolean_or("finest_stay", p.crushing.finest_stay);
   }
 
   auto f = dem.child("feed");

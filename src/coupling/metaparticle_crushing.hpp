@@ -15,7 +15,7 @@
 // after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
 // with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
 // fragments stay in the bed, carry load and are crushed again; a fragment finer than min_fragment_m (by its
-// mass-equivalent size) leaves as fines as above, or with finest_stay stays as an unbreakable sphere. Sizes (strength, progeny, screening) are mass-equivalent:
+// mass-equivalent size) leaves as fines as above. Sizes (strength, progeny, screening) are mass-equivalent:
 //   d_eq = (6 m / (pi rho_rock))^(1/3).
 #include <array>
 #include <cstddef>
@@ -38,9 +38,6 @@ struct CrushingParams {
   double batch_s = 0.0;
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
-  // With fragments: a sphere too fine to break into fragments (min_fragment_m, stable step) stays whole and
-  // unbreakable instead of leaving as fines, like the paper's metaparticles (section 4.1.3).
-  bool finest_stay = false;
 };
 
 // Mass-equivalent diameter of a sphere of mass m of rock of density rho (m).
