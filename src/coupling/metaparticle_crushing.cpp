@@ -36,7 +36,8 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
       std::size_t b = a;
       double f = 0;
       for (; b < load.size() && load[b].first == load[a].first; ++b) f += load[b].second;
-      if (f > crushing_force(equivalent_diameter(P.m[load[a].first], rho), tensile_strength)) out.push_back(load[a].first);
+      const std::size_t i = load[a].first;
+      if (f > crushing_force(equivalent_diameter(P.m[i], rho), tensile_strength)) out.push_back(i);
       a = b;
     }
   }

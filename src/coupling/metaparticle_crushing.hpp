@@ -14,8 +14,9 @@
 // With `fragments` on, a crushed sphere is replaced instead (particle replacement, as in DEM crusher models
 // after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
 // with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
-// fragments stay in the bed, carry load and are crushed again; a fragment finer than min_fragment_m (by its
-// mass-equivalent size) leaves as fines as above. Sizes (strength, progeny, screening) are mass-equivalent:
+// fragments stay in the bed and are crushed again; a fragment finer than min_fragment_m (by its mass-equivalent
+// size) leaves as fines as above. Experimental: in a filled chamber the fragments choke the discharge without
+// loading the liners more (README). Sizes (strength, progeny, screening) are mass-equivalent:
 //   d_eq = (6 m / (pi rho_rock))^(1/3).
 #include <array>
 #include <cstddef>
