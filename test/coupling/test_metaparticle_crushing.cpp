@@ -23,6 +23,19 @@ std::shared_ptr<dem::MeshContact> plate(const dem::World& w, double z, const std
   return m;
 }
 
+// The small chamber pre-filled with 0.5 kg of rock weaker than marble: F_c(8 mm) = 36 N, so the 3 deg
+// gyration crushes many metaparticles.
+coupling::ChamberParams crushing_chamber() {
+  auto p = test_chamber::small_chamber();
+  p.threads = 2;
+  p.feed.prefill = true;
+  p.feed.prefill_max_kg = 0.5;
+  p.feed.max_fed_kg = 0.5;
+  p.crushing.enabled = true;
+  p.crushing.tensile_strength = 0.5e6;
+  return p;
+}
+
 }  // namespace
 
 TEST(MetaparticleCrushing, PointLoadStrengthOfHiramatsuOka) {
@@ -89,13 +102,7 @@ TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
 // In a chamber, crushed metaparticles leave as product fines: the mass balance still closes, the product's
 // fine end is the progeny's, and no metaparticle stays pressed into a liner beyond its strength.
 TEST(MetaparticleCrushing, ChamberKeepsItsMassBalanceAndScreensTheFines) {
-  auto p = test_chamber::small_chamber();
-  p.threads = 2;
-  p.feed.prefill = true;
-  p.feed.prefill_max_kg = 0.5;
-  p.feed.max_fed_kg = 0.5;
-  p.crushing.enabled = true;
-  p.crushing.tensile_strength = 0.5e6;  // weaker than marble: F_c(8 mm) = 36 N, the 3 deg gyration crushes some
+  auto p = crushing_chamber();
   auto run = [&](coupling::ChamberDem& dem) {
     coupling::BodyMotion m, c;
     c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
@@ -169,13 +176,7 @@ TEST(MetaparticleCrushing, TetrahedralFragmentsTouchEachOtherAndTheParentFromIns
 // heavier than its sphere) until they are finer than min_fragment_m, where without fragments they leave at once.
 // The mass balance closes either way.
 TEST(MetaparticleCrushing, FragmentsStayInTheBedUntilFinerThanTheLimit) {
-  auto p = test_chamber::small_chamber();
-  p.threads = 2;
-  p.feed.prefill = true;
-  p.feed.prefill_max_kg = 0.5;
-  p.feed.max_fed_kg = 0.5;
-  p.crushing.enabled = true;
-  p.crushing.tensile_strength = 0.5e6;  // F_c(8 mm) = 36 N: the 3 deg gyration crushes many
+  auto p = crushing_chamber();
   p.crushing.batch_s = 2e-4;
   p.crushing.min_fragment_m = 4e-3;  // 8 mm spheres -> 5.0 mm fragments -> 3.2 mm: fines
   auto run = [&](coupling::ChamberDem& dem, double* mantle_force) {
