@@ -366,7 +366,8 @@ void ChamberDem::discharge() {
     const bool outside = d.z() > outer_.z.front() && d.z() < outer_.z.back() && rho > outer_.radius_at(d.z()) + 1e-3;
     const bool lost = outside || rho > far || f.centre.z() < z_out - 5.0;
     if (f.centre.z() >= z_out && !lost) continue;
-    for (uint64_t id : frags.members(f.label)) remove.push_back(id);
+    const auto members = frags.members(f.label);
+    remove.insert(remove.end(), members.begin(), members.end());
     if (lost) {
       lost_kg_ += f.mass;
       continue;
@@ -375,7 +376,6 @@ void ChamberDem::discharge() {
     ++fragments_out_;
     discharge_log_.emplace_back(world_->time(), f.mass);
     double sieve = f.sieve_size;
-    const auto& members = frags.members(f.label);
     if (members.size() == 1) {  // a crushed sphere's fragment stands for a lump of its mass (metaparticle_crushing.hpp)
       const long i = world_->index_of(members.front());
       if (i >= 0) sieve = std::max(sieve, sieve * equivalent_diameter(P.m[i], rock_density_) / (2.0 * P.r[i]));
@@ -434,7 +434,7 @@ void ChamberDem::crush_squeezed(bool flush) {
   double mass = 0;
   for (std::size_t i : idx) {
     const double d = equivalent_diameter(P.m[i], rock_density_);
-    const double r_f = P.r[i] / (1.0 + std::sqrt(1.5));
+    const double r_f = fragment_radius(P.r[i]);
     const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
     // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger.
     if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m &&

@@ -9,12 +9,14 @@ double crushing_force(double d, double tensile_strength) { return M_PI * d * d *
 
 double equivalent_diameter(double m, double rho) { return std::cbrt(6.0 * m / (M_PI * rho)); }
 
+// Four equal spheres touching each other and the parent's surface: r_f = r / (1 + sqrt(3/2)), centres at
+// r - r_f from the parent's centre along the vertices of a regular tetrahedron.
+double fragment_radius(double parent_radius) { return parent_radius / (1.0 + std::sqrt(1.5)); }
+
 FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& rotation) {
-  // Four equal spheres touching each other and the parent's surface: r_f = r / (1 + sqrt(3/2)), centres at
-  // r - r_f from the parent's centre along the vertices of a regular tetrahedron.
   static const double v[4][3] = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
   FragmentSet f;
-  f.radius = parent_radius / (1.0 + std::sqrt(1.5));
+  f.radius = fragment_radius(parent_radius);
   const double d = (parent_radius - f.radius) / std::sqrt(3.0);
   for (int k = 0; k < 4; ++k) f.offset[k] = d * (rotation * Eigen::Vector3d(v[k][0], v[k][1], v[k][2]));
   return f;

@@ -34,8 +34,9 @@ struct CrushingParams {
   double tensile_strength = 3.77e6;  // Pa, sigma_t of the rock (Brazilian test, Eq. 26)
   double progeny_exponent = 1.0;     // n of the Gaudin-Schuhmann progeny distribution
   // Spheres found crushed within this time leave together (each removal compacts the particle arrays and the
-  // neighbour list; before removals stopped forcing a list rebuild, one by one took 40 % of a full chamber's run). Meanwhile a crushed sphere
-  // still carries load: its overlap grows by at most the closing speed x batch_s. 0: at once.
+  // neighbour list; before removals stopped forcing a list rebuild, one by one took 40 % of a full chamber's
+  // run). Meanwhile a crushed sphere still carries load: its overlap grows by at most the closing speed x
+  // batch_s. 0: at once.
   double batch_s = 0.0;
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
@@ -43,6 +44,9 @@ struct CrushingParams {
 
 // Mass-equivalent diameter of a sphere of mass m of rock of density rho (m).
 double equivalent_diameter(double m, double rho);
+
+// Radius of each of a crushed sphere's four fragments: r / (1 + sqrt(3/2)) = 0.4495 r.
+double fragment_radius(double parent_radius);
 
 // A crushed sphere's four fragments: radius (m) and centre offsets from the parent's centre (m), a regular
 // tetrahedron turned by `rotation` (a rotation matrix).

@@ -254,7 +254,8 @@ class DemNode {
     char eta[32] = "unknown";  // the first line of a (resumed) run has no rate yet
     if (done > 0) std::snprintf(eta, sizeof eta, "%.0f s", el * (T - t) / done);
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, eta, dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
+             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, eta, dem_->world().particles().size(),
+             dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
       ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners: metaparticles too coarse for the "
