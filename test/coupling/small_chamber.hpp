@@ -34,6 +34,17 @@ inline coupling::ChamberParams small_chamber() {
   return p;
 }
 
+// The small chamber on 2 threads, pre-filled with up to prefill_kg of rock (rock in contact with the liners from
+// the first step) and choke-fed up to max_fed_kg in all.
+inline coupling::ChamberParams prefilled_small_chamber(double prefill_kg, double max_fed_kg) {
+  auto p = small_chamber();
+  p.threads = 2;
+  p.feed.prefill = true;
+  p.feed.prefill_max_kg = prefill_kg;
+  p.feed.max_fed_kg = max_fed_kg;
+  return p;
+}
+
 // The mantle's motion at time t: axis tilted by `tilt` (rad), precessing at 10 Hz; the liner COM on the axis.
 inline void gyrate(const coupling::ChamberParams& p, double t, double tilt, coupling::BodyMotion* m) {
   const double w = 2 * M_PI * 10;

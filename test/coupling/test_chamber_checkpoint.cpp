@@ -12,11 +12,7 @@ namespace {
 // The small chamber pre-filled, so that rock presses on the liners from the start, with choke feeding on top
 // (new rocks draw on the random generator after the checkpoint).
 coupling::ChamberParams small_filled_chamber() {
-  auto p = test_chamber::small_chamber();
-  p.threads = 2;
-  p.feed.prefill = true;
-  p.feed.prefill_max_kg = 0.4;
-  p.feed.max_fed_kg = 0.8;
+  auto p = test_chamber::prefilled_small_chamber(0.4, 0.8);
   p.feed.max_rate_kg_s = 4.0;  // a rock every few ms: feeding goes on across the checkpoint
   p.bpm.bond.sigma_c = 2.5e6;  // a tenth of Table 4: bonds break within the short run
   p.bpm.bond.tau_c = 0.9e6;

@@ -26,11 +26,7 @@ std::shared_ptr<dem::MeshContact> plate(const dem::World& w, double z, const std
 // The small chamber pre-filled with 0.5 kg of rock weaker than marble: F_c(8 mm) = 36 N, so the 3 deg
 // gyration crushes many metaparticles.
 coupling::ChamberParams crushing_chamber() {
-  auto p = test_chamber::small_chamber();
-  p.threads = 2;
-  p.feed.prefill = true;
-  p.feed.prefill_max_kg = 0.5;
-  p.feed.max_fed_kg = 0.5;
+  auto p = test_chamber::prefilled_small_chamber(0.5, 0.5);
   p.crushing.enabled = true;
   p.crushing.tensile_strength = 0.5e6;
   return p;
