@@ -20,6 +20,8 @@ struct Interaction {
   virtual void add_forces(Particles& p, double t, double dt) = 0;
   // Called after particles were removed/reordered: old index -> new index (-1 removed). Default: nothing.
   virtual void on_reindex(const std::vector<long>& old_to_new) { (void)old_to_new; }
+  // Called when particle i's radius changed (World::set_radius). Default: nothing.
+  virtual void on_radius_change(long i) { (void)i; }
   // Largest contact overlap / particle radius of the last add_forces and that particle's index (-1: no
   // contact), for World's blow-up check; and what to call this interaction in its message.
   virtual std::pair<double, long> worst_overlap() const { return {0.0, -1}; }

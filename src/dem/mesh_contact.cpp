@@ -293,6 +293,10 @@ void MeshContact::on_reindex(const std::vector<long>& old_to_new) {
   c0_.resize(k);
 }
 
+void MeshContact::on_radius_change(long i) {
+  if (i >= 0 && static_cast<std::size_t>(i) < far_.size()) far_[i] = 0;
+}
+
 // ------------------------------------------------------------------ checkpoint
 
 void MeshContact::save_state(core::BinaryWriter& w) const {

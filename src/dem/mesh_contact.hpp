@@ -94,6 +94,7 @@ class MeshContact : public Interaction {
   // Particle narrow-phase evaluations (grid queries) of the last step; the others were skipped as far.
   long evaluated() const { return evaluated_; }
   void on_reindex(const std::vector<long>& old_to_new) override;
+  void on_radius_change(long i) override;  // i is evaluated at the next step
 
   void add_forces(Particles& p, double t, double dt) override;
 

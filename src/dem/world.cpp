@@ -79,6 +79,28 @@ std::size_t World::add_particle(const double x[3], double radius, int material, 
   return i;
 }
 
+void World::set_radius(std::size_t i, double radius) {
+  if (i >= p_.size())
+    throw std::invalid_argument("dem::World::set_radius: index " + std::to_string(i) + " not below the particle count " +
+                                std::to_string(p_.size()));
+  if (!(radius > 0) || !std::isfinite(radius))
+    throw std::invalid_argument("dem::World::set_radius: radius must be finite and > 0 (got " + std::to_string(radius) +
+                                " m)");
+  // Rayleigh step of this sphere with its mass at the new radius (time_step.cpp)
+  const Material& mat = prm_.materials.material(p_.material[i]);
+  const double rho = p_.m[i] / (4.0 / 3.0 * M_PI * radius * radius * radius);
+  const double t_r = M_PI * radius * std::sqrt(rho / mat.G) / (0.1631 * mat.nu + 0.8766);
+  if (prm_.dt > prm_.max_rayleigh_fraction * t_r)
+    throw std::invalid_argument("dem::World::set_radius: radius " + std::to_string(radius) + " m at mass " +
+                                std::to_string(p_.m[i]) + " kg has a Rayleigh step of " + std::to_string(t_r) +
+                                " s; dt " + std::to_string(prm_.dt) + " s accepts only up to " +
+                                std::to_string(prm_.max_rayleigh_fraction) + " of it");
+  step_growth_ = std::max(step_growth_, std::abs(radius - p_.r[i]));
+  p_.r[i] = radius;
+  p_.inv_I[i] = 1.0 / (0.4 * p_.m[i] * radius * radius);
+  for (auto& ia : interactions_) ia->on_radius_change(static_cast<long>(i));
+}
+
 long World::index_of(uint64_t id) const {
   // ids are increasing with index: insertion appends a new id, removal keeps the order
   auto it = std::lower_bound(p_.id.begin(), p_.id.end(), id);
@@ -482,6 +504,7 @@ void World::rebuild() {
     }
   });
   need_rebuild_ = false;
+  growth_since_build_ = 0;
   ++nrebuild_;
 }
 
@@ -1102,7 +1125,12 @@ void World::step(long nsteps) {
       std::fill(bad_thr_.begin(), bad_thr_.end(), 1);
       check_blow_up(false);
     }
-    if (need_rebuild_ || skin_ < 0 || 4.0 * maxd2 > skin_ * skin_)
+    // a radius change counts like a displacement of the particle's surface (set_radius)
+    growth_since_build_ += step_growth_;
+    step_growth_ = 0;
+    const bool moved_out = growth_since_build_ > 0 ? 2.0 * (std::sqrt(maxd2) + growth_since_build_) > skin_
+                                                   : 4.0 * maxd2 > skin_ * skin_;
+    if (need_rebuild_ || skin_ < 0 || moved_out)
       rebuild();
     else if (bonds_dirty_)
       rebuild_bond_csr();  // bonds broke in the last step (their pairs were inserted into the list)

@@ -81,6 +81,11 @@ class World {
   Particles& particles() { return p_; }  // may move/modify state; call invalidate_neighbors() after teleporting
   const Particles& particles() const { return p_; }
   void invalidate_neighbors() { need_rebuild_ = true; }
+  // Sets particle i's radius keeping its mass (1/I follows; a fragment growing into the volume of its parent). The
+  // neighbour list counts the change like a displacement and the interactions re-check i, so contacts the new
+  // radius makes are found. Bonds of i keep the geometry they formed with. Throws std::invalid_argument on a
+  // radius <= 0 or one whose Rayleigh step (with i's mass) is below dt / max_rayleigh_fraction.
+  void set_radius(std::size_t i, double radius);
 
   // ---- walls
   int add_plane(const double point[3], const double normal[3], int material);
@@ -209,6 +214,8 @@ class World {
   SVec<char> wtouch_;                  // per particle: had a wall contact last step
   std::vector<double> wplane_;                // per wall: n, n . p (fast distance test)
   std::vector<double> maxd_thr_;              // per thread max squared displacement since the last build
+  // radius changes (set_radius): largest change since the last step, and a bound on any particle's since the build
+  double step_growth_ = 0, growth_since_build_ = 0;
 
   // bonds
   std::vector<Bond> bonds_;
