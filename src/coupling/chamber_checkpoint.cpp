@@ -19,7 +19,8 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                         p.bookkeeping_s, static_cast<double>(p.rings), static_cast<double>(p.sectors),
                         b.kn, b.kt, b.sigma_c, b.tau_c, b.disk_radius, b.reference_radius, b.damping,
                         p.crushing.enabled ? 1.0 : 0.0, p.crushing.tensile_strength, p.crushing.progeny_exponent,
-                        p.crushing.batch_s, p.crushing.fragments ? 1.0 : 0.0, p.crushing.min_fragment_m};
+                        p.crushing.batch_s, p.crushing.fragments ? 1.0 : 0.0, p.crushing.min_fragment_m,
+                        p.crushing.fragment_growth_s};
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));
@@ -45,6 +46,11 @@ void ChamberDem::save_state(core::BinaryWriter& w) {
   w.put<int64_t>(crushed_count_);
   w.put<int64_t>(fragmented_count_);
   w.put_vec(screened_kg_);
+  std::vector<uint64_t> grow_id;
+  std::vector<double> grow_r;
+  for (const auto& g : growing_) grow_id.push_back(g.id), grow_r.push_back(g.r_end), grow_r.push_back(g.rate);
+  w.put_vec(grow_id);
+  w.put_vec(grow_r);
   std::vector<double> log;
   for (const auto& [t, m] : discharge_log_) log.push_back(t), log.push_back(m);
   w.put_vec(log);
@@ -84,6 +90,13 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   fragmented_count_ = r.get<int64_t>();
   r.get_vec(screened_kg_);
   if (screened_kg_.size() != p_.sieves_m.size() + 1) r.fail("sieve classes differ from this configuration");
+  std::vector<uint64_t> grow_id;
+  std::vector<double> grow_r;
+  r.get_vec(grow_id);
+  r.get_vec(grow_r);
+  if (grow_r.size() != 2 * grow_id.size()) r.fail("growing fragments are corrupt");
+  growing_.clear();
+  for (std::size_t k = 0; k < grow_id.size(); ++k) growing_.push_back({grow_id[k], grow_r[2 * k], grow_r[2 * k + 1]});
   std::vector<double> log;
   r.get_vec(log);
   if (log.size() % 2) r.fail("discharge log is corrupt");

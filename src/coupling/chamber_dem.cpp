@@ -155,6 +155,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     const double tau = (k + 1) * h;  // positions at the end of the drift of this step
     set_liners(m, c, tau);
     world_->step(1);
+    if (!growing_.empty()) grow_fragments(h);
     for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
       deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
     const Eigen::Vector3d com_m = m.com + m.velocity * tau, com_c = c.com + c.velocity * tau;
@@ -428,20 +429,23 @@ void ChamberDem::crush_squeezed(bool flush) {
   }
   struct Fragment {
     Eigen::Vector3d x, v, w;
-    double r, rho;
+    double r, rho, r_end;
   };
   std::vector<Fragment> born;
   double mass = 0;
+  const bool grow = p_.crushing.fragment_growth_s > 0;
   for (std::size_t i : idx) {
     const double d = equivalent_diameter(P.m[i], rock_density_);
     const double r_f = fragment_radius(P.r[i]);
     const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
-    // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger.
-    if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m &&
-        r_f * std::sqrt(rho_f / rock_density_) >= fragment_min_radius_) {
+    const double r_end = grow ? std::max(r_f, 0.5 * d / std::cbrt(4.0)) : r_f;  // at the rock's density when grown
+    // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger; a
+    // growing one ends at the rock's density.
+    const double stable_r = grow ? r_end : r_f * std::sqrt(rho_f / rock_density_);
+    if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m && stable_r >= fragment_min_radius_) {
       const auto set = tetrahedral_fragments(P.r[i], random_orientation().toRotationMatrix());
       const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
-      for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f});
+      for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f, r_end});
       ++fragmented_count_;
       continue;
     }
@@ -456,7 +460,24 @@ void ChamberDem::crush_squeezed(bool flush) {
     discharge_log_.emplace_back(world_->time(), mass);
   }
   world_->remove_particles(remove);
-  for (const auto& f : born) world_->add_particle(f.x.data(), f.r, kRock, f.rho, f.v.data(), f.w.data());
+  for (const auto& f : born) {
+    const std::size_t k = world_->add_particle(f.x.data(), f.r, kRock, f.rho, f.v.data(), f.w.data());
+    if (f.r_end > f.r) growing_.push_back({P.id[k], f.r_end, (f.r_end - f.r) / p_.crushing.fragment_growth_s});
+  }
+}
+
+// Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.
+void ChamberDem::grow_fragments(double h) {
+  const auto& P = world_->particles();
+  std::size_t keep = 0;
+  for (const Growing& g : growing_) {
+    const long i = world_->index_of(g.id);
+    if (i < 0) continue;  // crushed again or discharged while growing
+    const double r = std::min(g.r_end, P.r[i] + g.rate * h);
+    world_->set_radius(static_cast<std::size_t>(i), r);
+    if (r < g.r_end) growing_[keep++] = g;
+  }
+  growing_.resize(keep);
 }
 
 ProductState ChamberDem::product() const {

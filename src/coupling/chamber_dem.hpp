@@ -85,9 +85,10 @@ class ChamberDem {
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
-  // Smallest sphere of rock density the stable step allows; a fragment (crushing.fragments), denser, may be
-  // smaller by sqrt(its density / the rock's), else it leaves as fines.
+  // Smallest sphere of rock density the stable step allows; a heavy fragment (crushing.fragments without growth)
+  // may be smaller by sqrt(its density / the rock's), a growing one must reach it when grown, else it leaves as fines.
   double fragment_min_radius() const { return fragment_min_radius_; }
+  std::size_t growing_fragments() const { return growing_.size(); }  // still denser than rock (fragment_growth_s)
   // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
   void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
 
@@ -104,6 +105,7 @@ class ChamberDem {
   void feed();
   void discharge();
   void crush_squeezed(bool flush);
+  void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
   // hopper (allowing for their flat facets) and outside the mantle and its cap.
@@ -130,6 +132,11 @@ class ChamberDem {
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0, crushed_kg_ = 0;
   long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0, fragmented_count_ = 0;
+  struct Growing {
+    uint64_t id;
+    double r_end, rate;  // m, m/s
+  };
+  std::vector<Growing> growing_;  // ascending ids
   std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
   double first_crush_t_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])

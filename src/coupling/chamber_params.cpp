@@ -37,6 +37,7 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
     p.crushing.fragments = c.boolean_or("fragments", p.crushing.fragments);
     p.crushing.min_fragment_m =
         c.number_or("min_fragment_mm", p.crushing.min_fragment_m / u::mm, 0.1, 1000, "mm", u::mm);
+    p.crushing.fragment_growth_s = c.number_or("fragment_growth_s", p.crushing.fragment_growth_s, 0, 1, "s");
   }
 
   auto f = dem.child("feed");

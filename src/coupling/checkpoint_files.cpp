@@ -12,7 +12,7 @@ namespace coupling {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr uint32_t kVersion = 1;
+constexpr uint32_t kVersion = 2;  // 2: growing fragments (crushing.fragment_growth_s)
 
 // "<node>.<digits><suffix>" -> digits as a number, or nullopt
 std::optional<uint64_t> number_in(const std::string& name, const std::string& prefix, const std::string& suffix) {

@@ -15,8 +15,11 @@
 // after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
 // with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
 // fragments stay in the bed and are crushed again; a fragment finer than min_fragment_m (by its mass-equivalent
-// size) leaves as fines as above. Experimental: in a filled chamber the fragments choke the discharge without
-// loading the liners more (README). Sizes (strength, progeny, screening) are mass-equivalent:
+// size) leaves as fines as above. With fragment_growth_s > 0 the fragments then grow, at constant mass, to the
+// rock's density (radius r / 4^(1/3) = 0.63 r) within that time: the crushed rock keeps its volume in the bed, as
+// the lumps it stands for would (Cleary & Sinnott grow the progeny of their particle replacement in the same way).
+// With 0 they stay 2.75x denser and take 36 % of the parent's volume. Experimental (README). Sizes (strength,
+// progeny, screening) are mass-equivalent:
 //   d_eq = (6 m / (pi rho_rock))^(1/3).
 #include <array>
 #include <cstddef>
@@ -40,6 +43,7 @@ struct CrushingParams {
   double batch_s = 0.0;
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
+  double fragment_growth_s = 0;  // s, time a fragment takes to grow to the rock's density (0: it stays heavy)
 };
 
 // Mass-equivalent diameter of a sphere of mass m of rock of density rho (m).

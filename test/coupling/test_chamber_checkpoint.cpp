@@ -51,11 +51,13 @@ void expect_same_particles(const dem::Particles& a, const dem::Particles& b) {
 }
 
 // Runs p for 40 steps, saves, runs 40 more; a second chamber restored from the file runs the same 40 steps.
-void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p) {
+// growing: fragments must be growing at the checkpoint.
+void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p, bool growing = false) {
   coupling::ChamberDem a(p);
   Record before;
   run_steps(a, p, 0, 40, &before);
   ASSERT_GT(a.world().particles().size(), 100u);
+  if (growing) ASSERT_GT(a.growing_fragments(), 0u);
   std::stringstream file;
   {
     core::BinaryWriter w(file);
@@ -118,6 +120,18 @@ TEST(ChamberCheckpoint, RestoredRunWithCrushingIntoFragmentsContinuesBitForBit) 
   p.crushing.min_fragment_m = 4e-3;
   p.crushing.batch_s = 2e-4;
   expect_restored_run_continues_bit_for_bit(p);
+}
+
+// Fragments growing to the rock's density across the checkpoint: their growth is part of the state.
+TEST(ChamberCheckpoint, RestoredRunWithGrowingFragmentsContinuesBitForBit) {
+  auto p = small_filled_chamber();
+  p.crushing.enabled = true;
+  p.crushing.fragments = true;
+  p.crushing.fragment_growth_s = 5e-3;
+  p.crushing.tensile_strength = 0.5e6;
+  p.crushing.min_fragment_m = 4e-3;
+  p.crushing.batch_s = 2e-4;
+  expect_restored_run_continues_bit_for_bit(p, true);
 }
 
 TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {

@@ -221,3 +221,51 @@ TEST(MetaparticleCrushing, FragmentsStayInTheBedUntilFinerThanTheLimit) {
   // Not asserted: the mean mantle force. Here it is about the same (13.6 N fines only, 12.9 N with fragments):
   // every liner contact is still capped by its sphere's F_c, and fragments are weaker (F_c ~ d^2).
 }
+
+// With fragment_growth_s, the fragments grow at constant mass to the rock's density: the crushed rock keeps its
+// volume in the bed. Heavy fragments (no growth) keep 36 % of it.
+TEST(MetaparticleCrushing, GrowingFragmentsKeepTheRocksVolume) {
+  auto p = crushing_chamber();
+  p.crushing.batch_s = 2e-4;
+  p.crushing.min_fragment_m = 4e-3;
+  p.crushing.fragments = true;
+  auto q = p;
+  q.crushing.fragment_growth_s = 5e-3;
+  coupling::ChamberDem heavy(p), grown(q);
+  coupling::BodyMotion m, c;
+  c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
+  for (int k = 0; k < 140; ++k) {  // 120 ms of gyration, then 20 ms held at the last pose
+    if (k < 120) test_chamber::gyrate(p, k * 1e-3, 3.0 * M_PI / 180, &m);
+    heavy.advance(m, c, 1e-3);
+    grown.advance(m, c, 1e-3);
+  }
+  const double rho = grown.world().materials().material(0).density;
+  // solid volume of the spheres / volume of their mass at the rock's density
+  auto volume_ratio = [&](const coupling::ChamberDem& d) {
+    const auto& P = d.world().particles();
+    double v = 0, vm = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) v += 4.0 / 3.0 * M_PI * std::pow(P.r[i], 3), vm += P.m[i] / rho;
+    return v / vm;
+  };
+  const auto a = heavy.product(), b = grown.product();
+  std::printf("heavy fragments: %ld fragmented, %.4f kg in the chamber, sphere volume %.3f of the mass's\n",
+              a.metaparticles_fragmented, a.in_chamber_kg, volume_ratio(heavy));
+  std::printf("growing fragments: %ld fragmented, %.4f kg in the chamber, sphere volume %.3f of the mass's, %zu "
+              "still growing\n", b.metaparticles_fragmented, b.in_chamber_kg, volume_ratio(grown),
+              grown.growing_fragments());
+  ASSERT_GT(b.metaparticles_fragmented, 20);
+  EXPECT_NEAR(b.fed_kg, b.in_chamber_kg + b.discharged_kg + b.lost_kg, 1e-9 * b.fed_kg);
+  EXPECT_LT(volume_ratio(heavy), 0.95);
+  // Every fragment older than the growth time is at the rock's density: only those still growing (crushed during
+  // the last 5 ms, a few as the bed settled after the gyration) are denser.
+  const auto& P = grown.world().particles();
+  std::size_t denser = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const double ratio = P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3) * rho);
+    EXPECT_GT(ratio, 1 - 1e-9);
+    if (ratio > 1 + 1e-9) ++denser;
+  }
+  EXPECT_EQ(denser, grown.growing_fragments());
+  EXPECT_LT(grown.growing_fragments(), 40u);
+  EXPECT_GT(volume_ratio(grown), 0.99);
+}
