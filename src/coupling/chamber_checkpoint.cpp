@@ -20,7 +20,7 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                         b.kn, b.kt, b.sigma_c, b.tau_c, b.disk_radius, b.reference_radius, b.damping,
                         p.crushing.enabled ? 1.0 : 0.0, p.crushing.tensile_strength, p.crushing.progeny_exponent,
                         p.crushing.batch_s, p.crushing.fragments ? 1.0 : 0.0, p.crushing.min_fragment_m,
-                        p.crushing.fragment_growth_s};
+                        p.crushing.fragment_growth_s, p.crushing.stress_criterion ? 1.0 : 0.0};
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));

@@ -137,6 +137,7 @@ class ChamberDem {
     double r_end, rate;  // m, m/s
   };
   std::vector<Growing> growing_;  // ascending ids
+  std::vector<double> stress_;     // World::contact_stress scratch (crushing.stress_criterion)
   std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
   double first_crush_t_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])

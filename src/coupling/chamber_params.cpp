@@ -34,6 +34,7 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
         c.number_or("tensile_strength_MPa", p.crushing.tensile_strength / 1e6, 0.01, 1000, "MPa", 1e6);
     p.crushing.progeny_exponent = c.number_or("progeny_exponent", p.crushing.progeny_exponent, 0.1, 5, "");
     p.crushing.batch_s = c.number_or("batch_s", p.crushing.batch_s, 0, 0.01, "s");
+    p.crushing.stress_criterion = c.choice_or("criterion", "contact", {"contact", "stress"}) == "stress";
     p.crushing.fragments = c.boolean_or("fragments", p.crushing.fragments);
     p.crushing.min_fragment_m =
         c.number_or("min_fragment_mm", p.crushing.min_fragment_m / u::mm, 0.1, 1000, "mm", u::mm);

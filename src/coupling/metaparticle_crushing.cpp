@@ -48,6 +48,35 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
   return out;
 }
 
+double equivalent_diametral_load(const double* s6, double r) {
+  const double a = s6[0] - s6[1], b = s6[1] - s6[2], c = s6[2] - s6[0];
+  const double vm = std::sqrt(0.5 * (a * a + b * b + c * c) + 3.0 * (s6[3] * s6[3] + s6[4] * s6[4] + s6[5] * s6[5]));
+  return vm / (2.0 * r);
+}
+
+std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double> s,
+                                           const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
+                                           double rho) {
+  s.resize(6 * P.size(), 0.0);
+  for (const auto* mc : meshes)
+    for (const auto& c : mc->contacts()) {
+      const auto i = static_cast<std::size_t>(c.particle_index);
+      if (i >= P.size() || P.id[i] != c.particle_id) continue;  // stale record
+      const Eigen::Vector3d a = -P.r[i] * c.normal;  // arm at the radius, as World::contact_stress
+      const Eigen::Matrix3d m = 0.5 * (a * c.force.transpose() + c.force * a.transpose());
+      double* t = &s[6 * i];
+      t[0] += m(0, 0), t[1] += m(1, 1), t[2] += m(2, 2), t[3] += m(0, 1), t[4] += m(1, 2), t[5] += m(2, 0);
+    }
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const double* t = &s[6 * i];
+    if (t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] == 0 && t[4] == 0 && t[5] == 0) continue;
+    if (equivalent_diametral_load(t, P.r[i]) > crushing_force(equivalent_diameter(P.m[i], rho), tensile_strength))
+      out.push_back(i);
+  }
+  return out;
+}
+
 std::vector<double> progeny_by_class(double mass, double d, const std::vector<double>& sieves, double exponent) {
   std::vector<double> out(sieves.size() + 1, 0.0);
   double below = 0;  // mass passing the previous sieve

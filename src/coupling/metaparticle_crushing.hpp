@@ -11,6 +11,11 @@
 // The fines are far smaller than the setting and pass straight through: the sphere leaves the DEM and its
 // mass joins the product with a Gaudin-Schuhmann progeny distribution below its size d:
 //   passing(x) = (x / d)^n  for x < d.
+// criterion `stress` (instead of `contact`, the liner contact above): a sphere breaks on its whole load, from the
+// liners, its neighbours and its bonds alike. Its mean stress (Love-Weber: S = sum over contacts of sym(a (x) f))
+// gives an equivalent diametral load F_eq = von Mises(S) / (2 r), which is the force F of a diametral test
+// (S = -2 r F n n) and 0 under hydrostatic pressure; it breaks when F_eq > F_c. A sphere in a bed, pressed from
+// all sides, is then stronger than one pinched between two points, and force chains through the bed are bounded.
 // With `fragments` on, a crushed sphere is replaced instead (particle replacement, as in DEM crusher models
 // after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
 // with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
@@ -41,6 +46,7 @@ struct CrushingParams {
   // run). Meanwhile a crushed sphere still carries load: its overlap grows by at most the closing speed x
   // batch_s. 0: at once.
   double batch_s = 0.0;
+  bool stress_criterion = false;  // crush on the sphere's whole load (above); off: on its liner contacts only
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
   double fragment_growth_s = 0;  // s, time a fragment takes to grow to the rock's density (0: it stays heavy)
@@ -68,6 +74,15 @@ double crushing_force(double d, double tensile_strength);
 // the facets of a mesh the particle touches).
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            double tensile_strength, double rho);
+
+// F_eq = von Mises(S) / (2 r) of S = (xx yy zz xy yz zx), the stress criterion's equivalent diametral load (N).
+double equivalent_diametral_load(const double* s6, double r);
+
+// The stress criterion: indices (ascending) of the particles with F_eq > F_c (of their mass-equivalent size), from
+// World::contact_stress's sums `s` (6 per particle) plus the meshes' contacts of the last step.
+std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double> s,
+                                           const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
+                                           double rho);
 
 // A crushed sphere's mass split over the sieve classes of ascending `sieves` (m): entry k holds the mass between
 // sieves[k-1] and sieves[k] (entry 0: below sieves[0]); the last entry (index sieves.size()) holds what is above

@@ -269,3 +269,70 @@ TEST(MetaparticleCrushing, GrowingFragmentsKeepTheRocksVolume) {
   EXPECT_LT(grown.growing_fragments(), 40u);
   EXPECT_GT(volume_ratio(grown), 0.99);
 }
+
+// The stress criterion's equivalent diametral load (closed forms): the diametral test's F; F (1 - K) under
+// uniaxial load F with lateral contact loads K F; 0 under equal loads from all six sides.
+TEST(MetaparticleCrushing, EquivalentDiametralLoadOfClosedFormLoadings) {
+  const double r = 5e-3, F = 800.0;
+  // two opposite contacts at +-r n with inward forces -+F n: S = -2 r F n n
+  const double diametral[6] = {0, 0, -2 * r * F, 0, 0, 0};
+  EXPECT_NEAR(coupling::equivalent_diametral_load(diametral, r), F, 1e-9 * F);
+  const double K = 0.4;
+  const double confined[6] = {-2 * r * K * F, -2 * r * K * F, -2 * r * F, 0, 0, 0};
+  EXPECT_NEAR(coupling::equivalent_diametral_load(confined, r), (1 - K) * F, 1e-9 * F);
+  const double hydrostatic[6] = {-2 * r * F, -2 * r * F, -2 * r * F, 0, 0, 0};
+  EXPECT_NEAR(coupling::equivalent_diametral_load(hydrostatic, r), 0.0, 1e-9 * F);
+  // frame independent: the diametral load along (1, 1, 0) / sqrt(2)
+  const double turned[6] = {-r * F, -r * F, 0, -r * F, 0, 0};
+  EXPECT_NEAR(coupling::equivalent_diametral_load(turned, r), F, 1e-9 * F);
+}
+
+// A column of three spheres pressed between two plates: the middle one, the smallest and weakest, touches no liner.
+// The contact criterion never crushes it; the stress criterion crushes it, first, when the column's force reaches
+// its F_c (from its contacts with the outer spheres), and crushes a lone sphere between the plates at the same F_c
+// as the contact criterion.
+TEST(MetaparticleCrushing, StressCriterionCrushesASphereInsideAColumnAtItsStrength) {
+  dem::WorldParams wp;
+  wp.dt = 5e-7;
+  wp.threads = 1;
+  wp.gravity = {{0, 0, 0}};
+  dem::World w(wp);
+  const double R = 6e-3, rm = 4e-3, sigma = 3.77e6, v = 0.02;
+  const double h = 2 * R + 2 * rm + 2 * R;  // column height
+  auto floor = plate(w, 0.0, "floor"), ceiling = plate(w, h + 1e-5, "ceiling");
+  w.add_interaction(floor);
+  w.add_interaction(ceiling);
+  const double a[3] = {0, 0, R}, b[3] = {0, 0, 2 * R + rm}, c[3] = {0, 0, 2 * R + 2 * rm + R};
+  w.add_particle(a, R, 0);
+  w.add_particle(b, rm, 0);
+  w.add_particle(c, R, 0);
+  dem::Twist down;
+  down.linear = Eigen::Vector3d(0, 0, -v);
+  ceiling->set_twist(down);
+  double z = h + 1e-5, force = 0;
+  const double rho = w.materials().material(0).density;
+  std::vector<double> s;
+  long steps = 0;
+  std::vector<std::size_t> by_stress;
+  for (; steps < 400000; ++steps) {
+    z -= v * wp.dt;
+    dem::Pose p;
+    p.position = Eigen::Vector3d(0, 0, z);
+    ceiling->set_pose(p);
+    w.step(1);
+    EXPECT_TRUE(coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, 1e3 * sigma, rho).empty());
+    w.contact_stress(s);
+    by_stress = coupling::crushed_by_stress(w.particles(), s, {floor.get(), ceiling.get()}, sigma, rho);
+    if (!by_stress.empty()) break;
+    for (const auto& ct : ceiling->contacts()) force = std::max(force, ct.normal_force);
+  }
+  ASSERT_LT(steps, 400000) << "never crushed";
+  const double Fc = coupling::crushing_force(2 * rm, sigma);
+  std::printf("column: middle sphere crushed at a column force of %.1f N (its F_c %.1f N)\n", force, Fc);
+  ASSERT_EQ(by_stress.size(), 1u);
+  EXPECT_EQ(by_stress[0], 1u);  // the middle sphere
+  EXPECT_GT(force, 0.97 * Fc);
+  EXPECT_LE(force, 1.01 * Fc);
+  // the contact criterion at the same strength sees only the outer spheres' liner contacts, below their F_c
+  EXPECT_TRUE(coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, sigma, rho).empty());
+}

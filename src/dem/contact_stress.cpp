@@ -1,0 +1,60 @@
+// World::contact_stress: each particle's mean stress x volume from its contacts and bonds (world.hpp).
+#include <cmath>
+
+#include "dem/hertz_mindlin.hpp"
+#include "dem/world.hpp"
+
+namespace dem {
+
+namespace {
+// s += sym(a (x) f)
+void add_sym(double* s, const double a[3], const double f[3]) {
+  s[0] += a[0] * f[0];
+  s[1] += a[1] * f[1];
+  s[2] += a[2] * f[2];
+  s[3] += 0.5 * (a[0] * f[1] + a[1] * f[0]);
+  s[4] += 0.5 * (a[1] * f[2] + a[2] * f[1]);
+  s[5] += 0.5 * (a[2] * f[0] + a[0] * f[2]);
+}
+}  // namespace
+
+void World::contact_stress(std::vector<double>& s) const {
+  const std::size_t n = p_.size();
+  s.assign(6 * n, 0.0);
+  const bool list_valid = istart_.size() == n + 1 && touch_.size() >= npairs_;
+  for (std::size_t q = 0; list_valid && q < npairs_; ++q) {
+    if (!touch_[q]) continue;
+    const uint32_t i = pi_[q], j = pj_[q];
+    const double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j], dz = p_.z[i] - p_.z[j];
+    const double d = std::sqrt(dx * dx + dy * dy + dz * dz), delta = p_.r[i] + p_.r[j] - d;
+    if (!(delta > 0) || !(d > 0)) continue;
+    const double nrm[3] = {dx / d, dy / d, dz / d}, zero[3] = {0, 0, 0};  // from j towards i
+    double hist[3] = {hist_[q][0], hist_[q][1], hist_[q][2]};
+    ContactForce cf;
+    const double r_eff = p_.r[i] * p_.r[j] / (p_.r[i] + p_.r[j]), m_eff = p_.m[i] * p_.m[j] / (p_.m[i] + p_.m[j]);
+    hertz_mindlin(delta, nrm, zero, zero, r_eff, m_eff, prm_.materials.pair(p_.material[i], p_.material[j]), 0.0,
+                  hist, cf);
+    const double ai = p_.r[i], aj = p_.r[j];  // arms at the radius (world.hpp)
+    const double to_ci[3] = {-ai * nrm[0], -ai * nrm[1], -ai * nrm[2]};
+    const double to_cj[3] = {aj * nrm[0], aj * nrm[1], aj * nrm[2]};
+    const double fj[3] = {-cf.f[0], -cf.f[1], -cf.f[2]};
+    add_sym(&s[6 * i], to_ci, cf.f);
+    add_sym(&s[6 * j], to_cj, fj);
+  }
+  for (const Bond& b : bonds_) {
+    if (!b.alive) continue;
+    const double dx = p_.x[b.j] - p_.x[b.i], dy = p_.y[b.j] - p_.y[b.i], dz = p_.z[b.j] - p_.z[b.i];
+    const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (!(d > 0)) continue;
+    const double nrm[3] = {dx / d, dy / d, dz / d};  // from i towards j (bond_law.hpp)
+    const double ci = p_.r[b.i], cj = p_.r[b.j];  // arms at the radius, as for contacts
+    const double fj[3] = {b.fn * nrm[0] + b.ft[0], b.fn * nrm[1] + b.ft[1], b.fn * nrm[2] + b.ft[2]};
+    const double fi[3] = {-fj[0], -fj[1], -fj[2]};
+    const double to_ci[3] = {ci * nrm[0], ci * nrm[1], ci * nrm[2]};
+    const double to_cj[3] = {-cj * nrm[0], -cj * nrm[1], -cj * nrm[2]};
+    add_sym(&s[6 * b.i], to_ci, fi);
+    add_sym(&s[6 * b.j], to_cj, fj);
+  }
+}
+
+}  // namespace dem
