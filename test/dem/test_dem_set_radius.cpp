@@ -35,14 +35,21 @@ Grown grow_into_neighbour(bool rebuild_every_step) {
   return {w.particles().x[1], w.particles().vx[1], w.n_rebuilds()};
 }
 
+// A World with one 2 mm rock sphere at the origin, stepping at dt.
+std::unique_ptr<dem::World> one_sphere(double dt) {
+  dem::WorldParams wp;
+  wp.dt = dt;
+  auto w = std::make_unique<dem::World>(wp);
+  const double x[3] = {0, 0, 0};
+  w->add_particle(x, 2e-3, 0);
+  return w;
+}
+
 }  // namespace
 
 TEST(SetRadius, KeepsTheMassAndSetsTheMomentOfInertia) {
-  dem::WorldParams wp;
-  wp.dt = 1e-7;
-  dem::World w(wp);
-  const double x[3] = {0, 0, 0};
-  w.add_particle(x, 2e-3, 0);
+  auto owner = one_sphere(1e-7);
+  dem::World& w = *owner;
   const double m = w.particles().m[0];
   w.set_radius(0, 3e-3);
   EXPECT_EQ(w.particles().m[0], m);
@@ -88,11 +95,8 @@ TEST(SetRadius, AGrowingSphereFindsTheMeshItGrowsInto) {
 }
 
 TEST(SetRadius, RefusesARadiusTheTimeStepCannotCarry) {
-  dem::WorldParams wp;
-  wp.dt = 1e-6;
-  dem::World w(wp);
-  const double x[3] = {0, 0, 0};
-  w.add_particle(x, 2e-3, 0);
+  auto owner = one_sphere(1e-6);
+  dem::World& w = *owner;
   // 2 mm rock: Rayleigh step ~1e-5 s at its density. At 100x the radius the density falls 1e6x: step ~1e-6 s x 0.1
   try {
     w.set_radius(0, 0.2);
