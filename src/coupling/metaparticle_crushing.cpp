@@ -51,7 +51,8 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
 double equivalent_diametral_load(const double* s6, double r) {
   const double a = s6[0] - s6[1], b = s6[1] - s6[2], c = s6[2] - s6[0];
   const double vm = std::sqrt(0.5 * (a * a + b * b + c * c) + 3.0 * (s6[3] * s6[3] + s6[4] * s6[4] + s6[5] * s6[5]));
-  return vm / (2.0 * r);
+  const double pressure = -(s6[0] + s6[1] + s6[2]) / 3.0;  // 2 r F under six equal loads F
+  return std::max(vm, pressure) / (2.0 * r);
 }
 
 std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double> s,

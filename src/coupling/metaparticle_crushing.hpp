@@ -13,9 +13,11 @@
 //   passing(x) = (x / d)^n  for x < d.
 // criterion `stress` (instead of `contact`, the liner contact above): a sphere breaks on its whole load, from the
 // liners, its neighbours and its bonds alike. Its mean stress (Love-Weber: S = sum over contacts of sym(a (x) f))
-// gives an equivalent diametral load F_eq = von Mises(S) / (2 r), which is the force F of a diametral test
-// (S = -2 r F n n) and 0 under hydrostatic pressure; it breaks when F_eq > F_c. A sphere in a bed, pressed from
-// all sides, is then stronger than one pinched between two points, and force chains through the bed are bounded.
+// gives an equivalent diametral load F_eq = max(von Mises(S), -tr(S) / 3) / (2 r): the force F of a diametral test
+// (S = -2 r F n n), (1 - K) F under a load F with lateral loads K F (K <= 0.4), and under equal loads F from six
+// sides F, so a sphere pressed from all sides breaks when each contact carries F_c (the pressure term; without it
+// a confined sphere would never break). It breaks when F_eq > F_c. A sphere in a bed is then up to 1.67x stronger
+// than one pinched between two points, and force chains through the bed are bounded.
 // With `fragments` on, a crushed sphere is replaced instead (particle replacement, as in DEM crusher models
 // after Cleary & Sinnott 2015): four spheres of radius 0.4495 r packed in a tetrahedron inside the parent, each
 // with a quarter of its mass (density x 2.75: the lumps are irregular and nest, spheres would not fit). The
@@ -75,7 +77,8 @@ double crushing_force(double d, double tensile_strength);
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            double tensile_strength, double rho);
 
-// F_eq = von Mises(S) / (2 r) of S = (xx yy zz xy yz zx), the stress criterion's equivalent diametral load (N).
+// F_eq = max(von Mises(S), -tr(S) / 3) / (2 r) of S = (xx yy zz xy yz zx), the stress criterion's equivalent
+// diametral load (N).
 double equivalent_diametral_load(const double* s6, double r);
 
 // The stress criterion: indices (ascending) of the particles with F_eq > F_c (of their mass-equivalent size), from

@@ -271,7 +271,8 @@ TEST(MetaparticleCrushing, GrowingFragmentsKeepTheRocksVolume) {
 }
 
 // The stress criterion's equivalent diametral load (closed forms): the diametral test's F; F (1 - K) under
-// uniaxial load F with lateral contact loads K F; 0 under equal loads from all six sides.
+// uniaxial load F with lateral contact loads K F (K <= 0.4), F (1 + 2K) / 3 above; F under equal loads F from all
+// six sides (the pressure term).
 TEST(MetaparticleCrushing, EquivalentDiametralLoadOfClosedFormLoadings) {
   const double r = 5e-3, F = 800.0;
   // two opposite contacts at +-r n with inward forces -+F n: S = -2 r F n n
@@ -280,8 +281,11 @@ TEST(MetaparticleCrushing, EquivalentDiametralLoadOfClosedFormLoadings) {
   const double K = 0.4;
   const double confined[6] = {-2 * r * K * F, -2 * r * K * F, -2 * r * F, 0, 0, 0};
   EXPECT_NEAR(coupling::equivalent_diametral_load(confined, r), (1 - K) * F, 1e-9 * F);
+  const double K2 = 0.7;
+  const double well_confined[6] = {-2 * r * K2 * F, -2 * r * K2 * F, -2 * r * F, 0, 0, 0};
+  EXPECT_NEAR(coupling::equivalent_diametral_load(well_confined, r), (1 + 2 * K2) / 3 * F, 1e-9 * F);
   const double hydrostatic[6] = {-2 * r * F, -2 * r * F, -2 * r * F, 0, 0, 0};
-  EXPECT_NEAR(coupling::equivalent_diametral_load(hydrostatic, r), 0.0, 1e-9 * F);
+  EXPECT_NEAR(coupling::equivalent_diametral_load(hydrostatic, r), F, 1e-9 * F);
   // frame independent: the diametral load along (1, 1, 0) / sqrt(2)
   const double turned[6] = {-r * F, -r * F, 0, -r * F, 0, 0};
   EXPECT_NEAR(coupling::equivalent_diametral_load(turned, r), F, 1e-9 * F);
