@@ -6,8 +6,10 @@
 
 namespace dem {
 
-double rayleigh_time_step(double radius, const Material& m) {
-  return M_PI * radius * std::sqrt(m.density / m.G) / (0.1631 * m.nu + 0.8766);
+double rayleigh_time_step(double radius, const Material& m) { return rayleigh_time_step(radius, m.density, m); }
+
+double rayleigh_time_step(double radius, double rho, const Material& m) {
+  return M_PI * radius * std::sqrt(rho / m.G) / (0.1631 * m.nu + 0.8766);
 }
 
 double rayleigh_time_step(const Particles& p, const MaterialTable& mats) {
@@ -16,7 +18,7 @@ double rayleigh_time_step(const Particles& p, const MaterialTable& mats) {
     const Material& m = mats.material(p.material[i]);
     // the particle's own density (from its mass) may differ from the material's; use the particle's
     const double rho = p.m[i] / (4.0 / 3.0 * M_PI * p.r[i] * p.r[i] * p.r[i]);
-    dt = std::min(dt, M_PI * p.r[i] * std::sqrt(rho / m.G) / (0.1631 * m.nu + 0.8766));
+    dt = std::min(dt, rayleigh_time_step(p.r[i], rho, m));
   }
   return dt;
 }

@@ -10,6 +10,8 @@ namespace dem {
 
 // Rayleigh step of one sphere: pi r sqrt(rho/G) / (0.1631 nu + 0.8766)
 double rayleigh_time_step(double radius, const Material& m);
+// The same for a sphere of its own density rho (a fragment heavier or lighter than its material).
+double rayleigh_time_step(double radius, double rho, const Material& m);
 // Minimum Rayleigh step over all particles (infinity when empty).
 double rayleigh_time_step(const Particles& p, const MaterialTable& mats);
 // Minimum over particles of sqrt(m_i / sum k_bn A) and sqrt(I_i / sum(k_bt A c_i^2 + k_bn J/2 + k_bt J)) over

@@ -86,10 +86,9 @@ void World::set_radius(std::size_t i, double radius) {
   if (!(radius > 0) || !std::isfinite(radius))
     throw std::invalid_argument("dem::World::set_radius: radius must be finite and > 0 (got " + std::to_string(radius) +
                                 " m)");
-  // Rayleigh step of this sphere with its mass at the new radius (time_step.cpp)
-  const Material& mat = prm_.materials.material(p_.material[i]);
+  // Rayleigh step of this sphere with its mass at the new radius
   const double rho = p_.m[i] / (4.0 / 3.0 * M_PI * radius * radius * radius);
-  const double t_r = M_PI * radius * std::sqrt(rho / mat.G) / (0.1631 * mat.nu + 0.8766);
+  const double t_r = rayleigh_time_step(radius, rho, prm_.materials.material(p_.material[i]));
   if (prm_.dt > prm_.max_rayleigh_fraction * t_r)
     throw std::invalid_argument("dem::World::set_radius: radius " + std::to_string(radius) + " m at mass " +
                                 std::to_string(p_.m[i]) + " kg has a Rayleigh step of " + std::to_string(t_r) +
