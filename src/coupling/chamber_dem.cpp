@@ -441,11 +441,12 @@ void ChamberDem::crush_squeezed(bool flush) {
     const double d = equivalent_diameter(P.m[i], rock_density_);
     const double r_f = fragment_radius(P.r[i]);
     const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
-    const double r_end = grow ? std::max(r_f, 0.5 * d / std::cbrt(4.0)) : r_f;  // at the rock's density when grown
+    const double d_f = d / std::cbrt(4.0);                     // a fragment's mass-equivalent size
+    const double r_end = grow ? std::max(r_f, 0.5 * d_f) : r_f;  // at the rock's density when grown
     // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger; a
     // growing one ends at the rock's density.
     const double stable_r = grow ? r_end : r_f * std::sqrt(rho_f / rock_density_);
-    if (p_.crushing.fragments && d / std::cbrt(4.0) >= p_.crushing.min_fragment_m && stable_r >= fragment_min_radius_) {
+    if (p_.crushing.fragments && d_f >= p_.crushing.min_fragment_m && stable_r >= fragment_min_radius_) {
       const auto set = tetrahedral_fragments(P.r[i], random_orientation().toRotationMatrix());
       const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
       for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f, r_end});

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dem/world.hpp"
+
 namespace coupling {
 
 double crushing_force(double d, double tensile_strength) { return M_PI * d * d * tensile_strength / 2.8; }
@@ -22,6 +24,14 @@ FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& r
   return f;
 }
 
+namespace {
+// A mesh contact record of the last step whose particle is still at its index (removals make records stale).
+bool current(const dem::Particles& P, const dem::MeshContactRecord& c) {
+  const auto i = static_cast<std::size_t>(c.particle_index);
+  return i < P.size() && P.id[i] == c.particle_id;
+}
+}  // namespace
+
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            double tensile_strength, double rho) {
   std::vector<std::size_t> out;
@@ -29,8 +39,7 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
   for (const auto* mc : meshes) {
     load.clear();
     for (const auto& c : mc->contacts()) {
-      const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i < P.size() && P.id[i] == c.particle_id) load.emplace_back(i, c.normal_force);  // skip stale records
+      if (current(P, c)) load.emplace_back(static_cast<std::size_t>(c.particle_index), c.normal_force);
     }
     // A sphere pressed across an edge of the tessellation touches two facets: their forces add up.
     std::sort(load.begin(), load.end());
@@ -55,18 +64,16 @@ double equivalent_diametral_load(const double* s6, double r) {
   return std::max(vm, pressure) / (2.0 * r);
 }
 
-std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double> s,
+std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double>& s,
                                            const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
                                            double rho) {
   s.resize(6 * P.size(), 0.0);
   for (const auto* mc : meshes)
     for (const auto& c : mc->contacts()) {
+      if (!current(P, c)) continue;
       const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i >= P.size() || P.id[i] != c.particle_id) continue;  // stale record
       const Eigen::Vector3d a = -P.r[i] * c.normal;  // arm at the radius, as World::contact_stress
-      const Eigen::Matrix3d m = 0.5 * (a * c.force.transpose() + c.force * a.transpose());
-      double* t = &s[6 * i];
-      t[0] += m(0, 0), t[1] += m(1, 1), t[2] += m(2, 2), t[3] += m(0, 1), t[4] += m(1, 2), t[5] += m(2, 0);
+      dem::add_contact_stress(&s[6 * i], a.data(), c.force.data());
     }
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < P.size(); ++i) {

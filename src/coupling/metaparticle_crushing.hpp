@@ -82,8 +82,8 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
 double equivalent_diametral_load(const double* s6, double r);
 
 // The stress criterion: indices (ascending) of the particles with F_eq > F_c (of their mass-equivalent size), from
-// World::contact_stress's sums `s` (6 per particle) plus the meshes' contacts of the last step.
-std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double> s,
+// World::contact_stress's sums `s` (6 per particle), to which the meshes' contacts of the last step are added.
+std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double>& s,
                                            const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
                                            double rho);
 

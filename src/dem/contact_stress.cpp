@@ -6,9 +6,7 @@
 
 namespace dem {
 
-namespace {
-// s += sym(a (x) f)
-void add_sym(double* s, const double a[3], const double f[3]) {
+void add_contact_stress(double* s, const double a[3], const double f[3]) {
   s[0] += a[0] * f[0];
   s[1] += a[1] * f[1];
   s[2] += a[2] * f[2];
@@ -16,7 +14,6 @@ void add_sym(double* s, const double a[3], const double f[3]) {
   s[4] += 0.5 * (a[1] * f[2] + a[2] * f[1]);
   s[5] += 0.5 * (a[2] * f[0] + a[0] * f[2]);
 }
-}  // namespace
 
 void World::contact_stress(std::vector<double>& s) const {
   const std::size_t n = p_.size();
@@ -38,8 +35,8 @@ void World::contact_stress(std::vector<double>& s) const {
     const double to_ci[3] = {-ai * nrm[0], -ai * nrm[1], -ai * nrm[2]};
     const double to_cj[3] = {aj * nrm[0], aj * nrm[1], aj * nrm[2]};
     const double fj[3] = {-cf.f[0], -cf.f[1], -cf.f[2]};
-    add_sym(&s[6 * i], to_ci, cf.f);
-    add_sym(&s[6 * j], to_cj, fj);
+    add_contact_stress(&s[6 * i], to_ci, cf.f);
+    add_contact_stress(&s[6 * j], to_cj, fj);
   }
   for (const Bond& b : bonds_) {
     if (!b.alive) continue;
@@ -52,8 +49,8 @@ void World::contact_stress(std::vector<double>& s) const {
     const double fi[3] = {-fj[0], -fj[1], -fj[2]};
     const double to_ci[3] = {ci * nrm[0], ci * nrm[1], ci * nrm[2]};
     const double to_cj[3] = {-cj * nrm[0], -cj * nrm[1], -cj * nrm[2]};
-    add_sym(&s[6 * b.i], to_ci, fi);
-    add_sym(&s[6 * b.j], to_cj, fj);
+    add_contact_stress(&s[6 * b.i], to_ci, fi);
+    add_contact_stress(&s[6 * b.j], to_cj, fj);
   }
 }
 

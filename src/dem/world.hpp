@@ -235,4 +235,7 @@ class World {
   std::array<double, 7> phase_s_{};
 };
 
+// s6 += sym(a (x) f), in contact_stress's order xx yy zz xy yz zx (contact_stress.cpp).
+void add_contact_stress(double* s6, const double a[3], const double f[3]);
+
 }  // namespace dem
