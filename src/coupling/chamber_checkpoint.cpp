@@ -21,6 +21,8 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                         p.crushing.enabled ? 1.0 : 0.0, p.crushing.tensile_strength, p.crushing.progeny_exponent,
                         p.crushing.batch_s, p.crushing.fragments ? 1.0 : 0.0, p.crushing.min_fragment_m,
                         p.crushing.fragment_growth_s, p.crushing.stress_criterion ? 1.0 : 0.0};
+  // Only with the size effect on, so that checkpoints written before it existed still load.
+  if (p.crushing.size_exponent != 0) f.insert(f.end(), {p.crushing.size_exponent, p.crushing.reference_size});
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));

@@ -397,9 +397,9 @@ void ChamberDem::crush_squeezed(bool flush) {
   const auto& P = world_->particles();
   const std::vector<const dem::MeshContact*> liners{mantle_.get(), cap_.get(), concave_.get(), hopper_.get()};
   if (p_.crushing.stress_criterion) world_->contact_stress(stress_);
-  for (std::size_t i : p_.crushing.stress_criterion
-                           ? crushed_by_stress(P, stress_, liners, p_.crushing.tensile_strength, rock_density_)
-                           : crushed_particles(P, liners, p_.crushing.tensile_strength, rock_density_)) {
+  const CrushingStrength strength(p_.crushing);
+  for (std::size_t i : p_.crushing.stress_criterion ? crushed_by_stress(P, stress_, liners, strength, rock_density_)
+                                                    : crushed_particles(P, liners, strength, rock_density_)) {
     if (pending_crush_.empty()) first_crush_t_ = world_->time();
     pending_crush_.push_back(P.id[i]);
   }

@@ -9,6 +9,10 @@ namespace coupling {
 
 double crushing_force(double d, double tensile_strength) { return M_PI * d * d * tensile_strength / 2.8; }
 
+double CrushingStrength::sigma(double d) const { return k == 0 ? sigma_t : sigma_t * std::pow(d_ref / d, k); }
+
+double CrushingStrength::force(double d) const { return crushing_force(d, sigma(d)); }
+
 double equivalent_diameter(double m, double rho) { return std::cbrt(6.0 * m / (M_PI * rho)); }
 
 // Four equal spheres touching each other and the parent's surface: r_f = r / (1 + sqrt(3/2)), centres at
@@ -33,7 +37,7 @@ bool current(const dem::Particles& P, const dem::MeshContactRecord& c) {
 }  // namespace
 
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
-                                           double tensile_strength, double rho) {
+                                           const CrushingStrength& strength, double rho) {
   std::vector<std::size_t> out;
   std::vector<std::pair<std::size_t, double>> load;  // (particle, normal force) per contact with one mesh
   for (const auto* mc : meshes) {
@@ -48,7 +52,7 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
       double f = 0;
       for (; b < load.size() && load[b].first == load[a].first; ++b) f += load[b].second;
       const std::size_t i = load[a].first;
-      if (f > crushing_force(equivalent_diameter(P.m[i], rho), tensile_strength)) out.push_back(i);
+      if (f > strength.force(equivalent_diameter(P.m[i], rho))) out.push_back(i);
       a = b;
     }
   }
@@ -65,8 +69,8 @@ double equivalent_diametral_load(const double* s6, double r) {
 }
 
 std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double>& s,
-                                           const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
-                                           double rho) {
+                                           const std::vector<const dem::MeshContact*>& meshes,
+                                           const CrushingStrength& strength, double rho) {
   s.resize(6 * P.size(), 0.0);
   for (const auto* mc : meshes)
     for (const auto& c : mc->contacts()) {
@@ -79,8 +83,7 @@ std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<
   for (std::size_t i = 0; i < P.size(); ++i) {
     const double* t = &s[6 * i];
     if (t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] == 0 && t[4] == 0 && t[5] == 0) continue;
-    if (equivalent_diametral_load(t, P.r[i]) > crushing_force(equivalent_diameter(P.m[i], rho), tensile_strength))
-      out.push_back(i);
+    if (equivalent_diametral_load(t, P.r[i]) > strength.force(equivalent_diameter(P.m[i], rho))) out.push_back(i);
   }
   return out;
 }

@@ -28,6 +28,11 @@
 // With 0 they stay 2.75x denser and take 36 % of the parent's volume. Experimental (README). Sizes (strength,
 // progeny, screening) are mass-equivalent:
 //   d_eq = (6 m / (pi rho_rock))^(1/3).
+// Size effect (size_exponent k > 0): small lumps hold fewer and smaller flaws and are stronger (Weibull),
+//   sigma(d) = sigma_t (d_ref / d)^k,
+// with sigma_t measured at d_ref (the 50 mm Brazilian disk, Eq. 26). Single-particle crushing of limestone,
+// 20-120 mm, gives k = 0.54; Weibull's volume scaling gives k = 3 / m (m ~ 5-10 for rock). k = 0: one strength
+// for every size, as before.
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -52,6 +57,20 @@ struct CrushingParams {
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
   double fragment_growth_s = 0;  // s, time a fragment takes to grow to the rock's density (0: it stays heavy)
+  double reference_size = 0.05;  // m, d_ref: the size at which tensile_strength was measured
+  double size_exponent = 0;      // k of the size effect (above); 0: none
+};
+
+// The crushing strength of a lump of size d: F_c = pi d^2 sigma(d) / 2.8 with sigma(d) = sigma_t (d_ref / d)^k.
+// From a number alone: one strength for every size.
+struct CrushingStrength {
+  CrushingStrength(double tensile_strength, double reference_size = 0.05, double size_exponent = 0)  // NOLINT
+      : sigma_t(tensile_strength), d_ref(reference_size), k(size_exponent) {}
+  explicit CrushingStrength(const CrushingParams& p)
+      : CrushingStrength(p.tensile_strength, p.reference_size, p.size_exponent) {}
+  double sigma(double d) const;  // Pa
+  double force(double d) const;  // N
+  double sigma_t, d_ref, k;
 };
 
 // Mass-equivalent diameter of a sphere of mass m of rock of density rho (m).
@@ -68,14 +87,14 @@ struct FragmentSet {
 };
 FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& rotation);
 
-// F_c of a sphere of diameter d (N).
+// F_c of a sphere of diameter d (N), size-independent strength.
 double crushing_force(double d, double tensile_strength);
 
 // Indices (ascending, unique) of the particles pressed against one of the meshes harder than their F_c
 // (of their mass-equivalent size for rock density rho) in the meshes' last step (normal forces summed over
 // the facets of a mesh the particle touches).
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
-                                           double tensile_strength, double rho);
+                                           const CrushingStrength& strength, double rho);
 
 // F_eq = max(von Mises(S), -tr(S) / 3) / (2 r) of S = (xx yy zz xy yz zx), the stress criterion's equivalent
 // diametral load (N).
@@ -84,8 +103,8 @@ double equivalent_diametral_load(const double* s6, double r);
 // The stress criterion: indices (ascending) of the particles with F_eq > F_c (of their mass-equivalent size), from
 // World::contact_stress's sums `s` (6 per particle), to which the meshes' contacts of the last step are added.
 std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<double>& s,
-                                           const std::vector<const dem::MeshContact*>& meshes, double tensile_strength,
-                                           double rho);
+                                           const std::vector<const dem::MeshContact*>& meshes,
+                                           const CrushingStrength& strength, double rho);
 
 // A crushed sphere's mass split over the sieve classes of ascending `sieves` (m): entry k holds the mass between
 // sieves[k-1] and sieves[k] (entry 0: below sieves[0]); the last entry (index sieves.size()) holds what is above

@@ -104,6 +104,10 @@ class DemNode {
       ROS_INFO("dem_node: crushed spheres break into 4 fragments while these are >= %.1f mm (mass-equivalent) and "
                "their spheres stable at the step (as a rock sphere >= %.2f mm in radius); finer ones leave as fines",
                cr.min_fragment_m * 1e3, dem_->fragment_min_radius() * 1e3);
+    if (cr.enabled && cr.size_exponent > 0)
+      ROS_INFO("dem_node: crushing strength with size effect: %.2f MPa at %.0f mm, %.2f MPa at 10 mm (exponent %.2f)",
+               cr.tensile_strength * 1e-6, cr.reference_size * 1e3,
+               coupling::CrushingStrength(cr).sigma(0.01) * 1e-6, cr.size_exponent);
     pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
     pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);
     pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);

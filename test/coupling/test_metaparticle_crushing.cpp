@@ -2,12 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <numeric>
+#include <sstream>
 
 #include "coupling/chamber_dem.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "dem/world.hpp"
+#include "mbd/mechanism_params.hpp"
 #include "small_chamber.hpp"
 
 namespace {
@@ -54,14 +57,19 @@ TEST(MetaparticleCrushing, ProgenyFollowsGaudinSchuhmannBelowTheParentSize) {
   EXPECT_NEAR(sq[0], 0.01, 1e-12);  // exponent 2: finer end thinner
 }
 
-// A sphere pressed between two steel plates breaks when the contact force reaches F_c, i.e. at the Hertz
-// overlap delta_c = (F_c / (4/3 E* sqrt(r)))^(2/3) on each side (Eq. 16 integrated), not earlier or later.
-TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
+namespace {
+
+// A sphere of radius r pressed between two steel plates until the contact criterion crushes it: the closure of
+// the plates (both contacts' overlaps) and the largest ceiling force before the break.
+struct PlateCrush {
+  double closure = 0, force_before = 0, E_star = 0;
+};
+PlateCrush crush_between_plates(double r, const coupling::CrushingStrength& strength) {
   dem::WorldParams wp;
   wp.dt = 1e-6;
   wp.threads = 1;
   dem::World w(wp);
-  const double r = 6e-3, sigma = 3.77e6, v = 0.02;
+  const double v = 0.02;
   auto floor = plate(w, 0.0, "floor"), ceiling = plate(w, 2 * r + 1e-5, "ceiling");
   w.add_interaction(floor);
   w.add_interaction(ceiling);
@@ -70,29 +78,99 @@ TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
   dem::Twist down;
   down.linear = Eigen::Vector3d(0, 0, -v);
   ceiling->set_twist(down);
-  double z_ceiling = 2 * r + 1e-5, force_before = 0;
+  double z_ceiling = 2 * r + 1e-5;
+  PlateCrush out;
   long steps = 0;
-  for (; steps < 200000; ++steps) {
+  for (; steps < 400000; ++steps) {
     z_ceiling -= v * wp.dt;
     dem::Pose p;
     p.position = Eigen::Vector3d(0, 0, z_ceiling);
     ceiling->set_pose(p);
     w.step(1);
-    if (!coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, sigma,
-                                         w.materials().material(0).density).empty()) break;
-    for (const auto& c : ceiling->contacts()) force_before = std::max(force_before, c.normal_force);
+    if (!coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, strength,
+                                     w.materials().material(0).density).empty()) break;
+    for (const auto& c : ceiling->contacts()) out.force_before = std::max(out.force_before, c.normal_force);
   }
-  ASSERT_LT(steps, 200000) << "never crushed";
+  EXPECT_LT(steps, 400000) << "never crushed";
+  out.closure = 2 * r - z_ceiling;
+  out.E_star = w.materials().pair(0, 1).E_star;
+  return out;
+}
+
+}  // namespace
+
+// A sphere pressed between two steel plates breaks when the contact force reaches F_c, i.e. at the Hertz
+// overlap delta_c = (F_c / (4/3 E* sqrt(r)))^(2/3) on each side (Eq. 16 integrated), not earlier or later.
+TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
+  const double r = 6e-3, sigma = 3.77e6;
+  const auto c = crush_between_plates(r, sigma);
   const double Fc = coupling::crushing_force(2 * r, sigma);
-  const auto& m = w.materials();
-  const double E_star = m.pair(0, 1).E_star;
-  const double delta_c = std::pow(Fc / (4.0 / 3.0 * E_star * std::sqrt(r)), 2.0 / 3.0);
-  const double closure = 2 * r - (z_ceiling - 0.0);  // both contacts' overlaps
-  std::printf("crushed at closure %.4g m (2 delta_c = %.4g m), F before %.1f N, F_c %.1f N\n", closure, 2 * delta_c,
-              force_before, Fc);
-  EXPECT_NEAR(closure, 2 * delta_c, 0.03 * 2 * delta_c);
-  EXPECT_LE(force_before, Fc);
-  EXPECT_GT(force_before, 0.98 * Fc);
+  const double delta_c = std::pow(Fc / (4.0 / 3.0 * c.E_star * std::sqrt(r)), 2.0 / 3.0);
+  std::printf("crushed at closure %.4g m (2 delta_c = %.4g m), F before %.1f N, F_c %.1f N\n", c.closure,
+              2 * delta_c, c.force_before, Fc);
+  EXPECT_NEAR(c.closure, 2 * delta_c, 0.03 * 2 * delta_c);
+  EXPECT_LE(c.force_before, Fc);
+  EXPECT_GT(c.force_before, 0.98 * Fc);
+}
+
+// Size effect: sigma(d) = sigma_t (d_ref / d)^k. At d_ref the strength is sigma_t; a 4x smaller lump is 4^k
+// stronger; F_c then grows as d^(2 - k); k = 0 (or a bare number) is the size-independent strength.
+TEST(MetaparticleCrushing, SizeEffectMakesSmallLumpsStronger) {
+  const coupling::CrushingStrength s(3.77e6, 0.05, 0.54);
+  EXPECT_DOUBLE_EQ(s.sigma(0.05), 3.77e6);
+  EXPECT_NEAR(s.sigma(0.0125), 3.77e6 * std::pow(4.0, 0.54), 1.0);  // 7.97 MPa
+  EXPECT_NEAR(s.sigma(0.0125), 7.97e6, 0.01e6);
+  EXPECT_NEAR(s.force(24e-3) / s.force(12e-3), std::pow(2.0, 2.0 - 0.54), 1e-12);
+  EXPECT_DOUBLE_EQ(coupling::CrushingStrength(3.77e6).force(12e-3), coupling::crushing_force(12e-3, 3.77e6));
+  coupling::CrushingParams p;
+  p.tensile_strength = 2e6;
+  p.reference_size = 0.04;
+  p.size_exponent = 0.3;
+  EXPECT_DOUBLE_EQ(coupling::CrushingStrength(p).sigma(0.01), 2e6 * std::pow(4.0, 0.3));
+}
+
+// With the size effect a 12 mm sphere between plates holds (50 / 12)^0.54 = 2.16x the force of the
+// size-independent law, and breaks at that force.
+TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsSizeDependentStrength) {
+  const double r = 6e-3;
+  const coupling::CrushingStrength s(3.77e6, 0.05, 0.54);
+  const auto c = crush_between_plates(r, s);
+  const double Fc = s.force(2 * r);
+  std::printf("size effect: F before %.1f N, F_c %.1f N (size-independent %.1f N)\n", c.force_before, Fc,
+              coupling::crushing_force(2 * r, 3.77e6));
+  EXPECT_NEAR(Fc / coupling::crushing_force(2 * r, 3.77e6), 2.16, 0.01);
+  EXPECT_LE(c.force_before, Fc);
+  EXPECT_GT(c.force_before, 0.98 * Fc);
+}
+
+// The crushing keys of dem.crushing are read with their units, and a value out of range is refused by name.
+TEST(MetaparticleCrushing, ConfigReadsTheSizeEffect) {
+  const std::string file = std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml";
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string text = ss.str(), key = "    progeny_exponent: 1.0";
+  ASSERT_NE(text.find(key), std::string::npos);
+  auto load = [&](const std::string& extra) {
+    std::string t = text;
+    t.insert(t.find(key), extra);
+    auto root = core::ConfigNode::load_string(t, "quick_demo+size_effect");
+    const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+    return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
+                                         mech.fixed_cone.com_z_m);
+  };
+  const auto p = load("    size_exponent: 0.54\n    reference_size_mm: 40\n");
+  EXPECT_DOUBLE_EQ(p.crushing.size_exponent, 0.54);
+  EXPECT_DOUBLE_EQ(p.crushing.reference_size, 0.04);
+  const auto none = load("");
+  EXPECT_EQ(none.crushing.size_exponent, 0.0);
+  EXPECT_DOUBLE_EQ(none.crushing.reference_size, 0.05);
+  try {
+    load("    size_exponent: 2\n");
+    FAIL() << "expected a ConfigError";
+  } catch (const core::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dem.crushing.size_exponent"), std::string::npos) << e.what();
+  }
 }
 
 // In a chamber, crushed metaparticles leave as product fines: the mass balance still closes, the product's
@@ -135,6 +213,15 @@ TEST(MetaparticleCrushing, ChamberKeepsItsMassBalanceAndScreensTheFines) {
   EXPECT_LT(batched.world().n_rebuilds(), dem.world().n_rebuilds());
   EXPECT_LE(batched.deepest_liner_overlap(), 1.5 * delta_c + 1.0 * 2e-4 / 3.6e-3);
   EXPECT_NEAR(sb.fed_kg, sb.in_chamber_kg + sb.discharged_kg + sb.lost_kg, 1e-9 * sb.fed_kg);
+  // With the size effect (k = 1 from 50 mm) the 7-9 mm spheres are ~6x stronger: the chamber crushes fewer
+  // (248 against 342; the gyrating liners press hard enough to break many at either strength).
+  auto k = p;
+  k.crushing.size_exponent = 1.0;
+  coupling::ChamberDem stronger(k);
+  run(stronger);
+  std::printf("size effect k = 1: %ld crushed (%ld without)\n", stronger.product().metaparticles_crushed,
+              dem.product().metaparticles_crushed);
+  EXPECT_LT(stronger.product().metaparticles_crushed, 0.8 * dem.product().metaparticles_crushed);
   const auto s = dem.product();
   std::printf("crushed %ld metaparticles, %.4f kg; discharged %.4f kg; passing 1 mm %.1f %%\n",
               s.metaparticles_crushed, s.crushed_kg, s.discharged_kg, s.passing_pct[0]);
