@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Table-5 figures of a coupled run window by window in time, from its bag: does the run reach a steady state?
+
+Usage: scripts/run_windows.py RUN.bag [--cycles 2]
+
+Windows are whole drive cycles (power swings within a cycle). Per window: test-point amplitude x (half the peak-to-peak per drive cycle, averaged over the window's whole
+cycles, as summary.json), mean drive power, throughput (discharged mass over the window / its length),
+specific energy (power / throughput), and the mass in the chamber at the window's end. summary.json gives these
+over the last run.settle_s only; a chamber filling up from a pre-filled start needs seconds of simulated time.
+"""
+import argparse
+import math
+import sys
+
+import rosbag
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("bag")
+    ap.add_argument("--cycles", type=int, default=2, help="drive cycles per window")
+    a = ap.parse_args()
+    if a.cycles < 1:
+        sys.exit(f"run_windows: --cycles must be a whole number >= 1 (got {a.cycles})")
+    tx, x, tp, p, speeds, prod = [], [], [], [], [], []
+    with rosbag.Bag(a.bag) as b:
+        for topic, m, _ in b.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/product"]):
+            t = m.header.stamp.to_sec()
+            if topic == "/crusher/test_point":
+                tx.append(t)
+                x.append(m.displacement.x * 1e3)
+            elif topic == "/crusher/drive":
+                tp.append(t)
+                p.append(m.power * 1e-3)
+                speeds.append(m.speed)
+            else:
+                prod.append((t, m.mass_discharged_kg, m.mass_in_chamber_kg))
+    if not tp:
+        sys.exit(f"run_windows: {a.bag} has no /crusher/drive message")
+    speed = sum(speeds) / len(speeds)  # rad/s
+    if not speed > 0:
+        sys.exit(f"run_windows: {a.bag}: the drive does not turn (mean speed {speed} rad/s)")
+    period = 2 * math.pi / speed
+    window = a.cycles * period
+    t_end = max(tp[-1], tx[-1] if tx else 0)
+    print(f"{a.bag}: {t_end:.2f} s, drive {speed * 60 / (2 * math.pi):.0f} rpm, windows of {a.cycles} cycles ({window:.3f} s)")
+    print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}")
+    w0 = 0.0
+    while w0 < t_end - 1e-9:
+        w1 = w0 + window
+        if w1 > t_end + 1e-6:
+            break  # a part cycle at the end would bias the power
+        amps = []
+        for c in range(a.cycles):
+            seg = [v for t, v in zip(tx, x) if w0 + c * period <= t < w0 + (c + 1) * period]
+            if seg:
+                amps.append(0.5 * (max(seg) - min(seg)))
+        pw = [v for t, v in zip(tp, p) if w0 <= t < w1]
+        amp = f"{sum(amps) / len(amps):9.2f}" if amps else f"{'n/a':>9}"
+        pm = sum(pw) / len(pw) if pw else float("nan")
+        inside = [q for q in prod if w0 <= q[0] <= w1]
+        tph = se = chamber = float("nan")
+        if inside:
+            before = [q for q in prod if q[0] < w0]
+            m0 = before[-1][1] if before else 0.0
+            t0 = before[-1][0] if before else 0.0
+            t1, m1, chamber = inside[-1]
+            if t1 > t0:
+                tph = (m1 - m0) / (t1 - t0) * 3.6
+                se = pm / tph if tph > 0 else float("nan")
+        print(f"{w0:6.2f} {w1:6.2f} {amp} {pm:9.1f} {tph:7.1f} {se:7.2f} {chamber:11.1f}")
+        w0 = w1
+
+
+if __name__ == "__main__":
+    main()
