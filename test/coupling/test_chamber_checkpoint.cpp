@@ -57,7 +57,9 @@ void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p,
   Record before;
   run_steps(a, p, 0, 40, &before);
   ASSERT_GT(a.world().particles().size(), 100u);
-  if (growing) ASSERT_GT(a.growing_fragments(), 0u);
+  if (growing) {
+    ASSERT_GT(a.growing_fragments(), 0u);
+  }
   std::stringstream file;
   {
     core::BinaryWriter w(file);

@@ -34,6 +34,19 @@ cp "$out/run/run.bag" "$out/run/mbd.bag"
 rosrun inertia_crusher merge_bags "$out/run/run.bag" "$out/run/dem.bag" ||
   { echo "FAIL: merge_bags failed"; exit 1; }
 /usr/bin/python3 "$src/test/ros/check_coupled_run.py" "$out/run"
+# scripts/run_windows.py reads the same bag its own way: its last window (the 2 drive cycles after the 0.3 s
+# settle) must give summary.json's amplitude and power.
+/usr/bin/python3 "$src/scripts/run_windows.py" "$out/run/run.bag" --cycles 2 | tee "$out/windows.txt"
+/usr/bin/python3 - "$out/windows.txt" "$out/run/summary.json" <<'PY' || exit 1
+import json, sys
+rows = [l.split() for l in open(sys.argv[1]) if l.strip() and l.split()[0].replace(".", "").isdigit()]
+s = json.load(open(sys.argv[2]))
+amp, power = float(rows[-1][2]), float(rows[-1][3])
+a_ref, p_ref = s["amplitude_x_mm"]["mean"], s["power_kW"]["mean"]
+print(f"run_windows last window: amplitude {amp} mm, power {power} kW; summary.json: {a_ref:.2f} mm, {p_ref:.2f} kW")
+if len(rows) != 2 or abs(amp - a_ref) > 0.01 * a_ref or abs(power - p_ref) > 0.05 * abs(p_ref) + 0.2:
+    sys.exit("FAIL: run_windows.py disagrees with summary.json (or not 2 windows of 2 cycles in 0.6 s)")
+PY
 
 # What a user sees: rviz fed by the recorded DEM bag, under Xvfb.
 export DISPLAY=:$((90 + RANDOM % 100)) LIBGL_ALWAYS_SOFTWARE=1
