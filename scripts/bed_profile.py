@@ -14,8 +14,8 @@ import math
 import sys
 
 import numpy as np
-import rosbag
 import yaml
+from bag_tools import open_bag
 
 
 def radius_at(zs, rs, z):
@@ -42,7 +42,7 @@ def main():
     except (OSError, KeyError, TypeError, yaml.YAMLError) as e:
         sys.exit(f"bed_profile: {a.config}: no mbd.chamber.{{mantle,concave}}_{{z,r}}_mm ({e})")
     last = None
-    with rosbag.Bag(a.bag) as b:
+    with open_bag(a.bag, "bed_profile") as b:
         for _, msg, _ in b.read_messages(topics=["/crusher/particles"]):
             last = msg
     if last is None:

@@ -12,7 +12,7 @@ import argparse
 import math
 import sys
 
-import rosbag
+from bag_tools import open_bag
 
 
 def main():
@@ -23,7 +23,7 @@ def main():
     if a.cycles < 1:
         sys.exit(f"run_windows: --cycles must be a whole number >= 1 (got {a.cycles})")
     tx, x, tp, p, speeds, prod = [], [], [], [], [], []
-    with rosbag.Bag(a.bag) as b:
+    with open_bag(a.bag, "run_windows") as b:
         for topic, m, _ in b.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/product"]):
             t = m.header.stamp.to_sec()
             if topic == "/crusher/test_point":
