@@ -3,12 +3,14 @@
 
 Usage: scripts/run_windows.py RUN.bag [--cycles 2]
 
-Windows are whole drive cycles (power swings within a cycle). Per window: test-point amplitude x (half the peak-to-peak per drive cycle, averaged over the window's whole
-cycles, as summary.json), mean drive power, throughput (discharged mass over the window / its length),
-specific energy (power / throughput), and the mass in the chamber at the window's end. summary.json gives these
-over the last run.settle_s only; a chamber filling up from a pre-filled start needs seconds of simulated time.
+Windows are whole drive cycles (the power swings within a cycle). Per window: test-point amplitude x (half the
+peak-to-peak per drive cycle, averaged over the window's cycles, as summary.json), mean drive power, throughput
+(discharged mass over the window / its length), specific energy (power / throughput), and the mass in the chamber
+at the window's end. summary.json gives these over the last run.settle_s only; a chamber filling up from a
+pre-filled start needs seconds of simulated time.
 """
 import argparse
+import bisect
 import math
 import sys
 
@@ -43,7 +45,8 @@ def main():
     period = 2 * math.pi / speed
     window = a.cycles * period
     t_end = max(tp[-1], tx[-1] if tx else 0)
-    print(f"{a.bag}: {t_end:.2f} s, drive {speed * 60 / (2 * math.pi):.0f} rpm, windows of {a.cycles} cycles ({window:.3f} s)")
+    print(f"{a.bag}: {t_end:.2f} s, drive {speed * 60 / (2 * math.pi):.0f} rpm, "
+          f"windows of {a.cycles} cycles ({window:.3f} s)")
     print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}")
     w0 = 0.0
     while w0 < t_end - 1e-9:
@@ -52,10 +55,10 @@ def main():
             break  # a part cycle at the end would bias the power
         amps = []
         for c in range(a.cycles):
-            seg = [v for t, v in zip(tx, x) if w0 + c * period <= t < w0 + (c + 1) * period]
+            seg = x[bisect.bisect_left(tx, w0 + c * period):bisect.bisect_left(tx, w0 + (c + 1) * period)]
             if seg:
                 amps.append(0.5 * (max(seg) - min(seg)))
-        pw = [v for t, v in zip(tp, p) if w0 <= t < w1]
+        pw = p[bisect.bisect_left(tp, w0):bisect.bisect_left(tp, w1)]
         amp = f"{sum(amps) / len(amps):9.2f}" if amps else f"{'n/a':>9}"
         pm = sum(pw) / len(pw) if pw else float("nan")
         inside = [q for q in prod if w0 <= q[0] <= w1]

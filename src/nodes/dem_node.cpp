@@ -262,9 +262,14 @@ class DemNode {
              dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
-      ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners: metaparticles too coarse for the "
-               "chamber's setting (each is a rigid sphere that cannot break further); liner forces and power are "
-               "inflated", dem_->deepest_liner_overlap());
+      if (cfg_.chamber.crushing.enabled)
+        ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners with crushing on, deeper than one "
+                 "contact at F_c presses them (loads from several sides under the stress criterion, fragments still "
+                 "growing, or crushing.batch_s); liner forces may be inflated", dem_->deepest_liner_overlap());
+      else
+        ROS_WARN("dem_node: spheres pressed %.2f of their radius into the liners: metaparticles too coarse for the "
+                 "chamber's setting (each is a rigid sphere that cannot break; dem.crushing breaks them); liner "
+                 "forces and power are inflated", dem_->deepest_liner_overlap());
     }
   }
 
