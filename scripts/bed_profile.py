@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """How full the crushing chamber is, band by band in height, from a coupled run's bag.
 
 Usage: scripts/bed_profile.py CONFIG.yaml RUN.bag [--band-mm 50]

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Table-5 figures of a coupled run window by window in time, from its bag: does the run reach a steady state?
 
 Usage: scripts/run_windows.py RUN.bag [--cycles 2]
