@@ -47,6 +47,9 @@ print(f"run_windows last window: amplitude {amp} mm, power {power} kW; summary.j
 if len(rows) != 2 or abs(amp - a_ref) > 0.01 * a_ref or abs(power - p_ref) > 0.05 * abs(p_ref) + 0.2:
     sys.exit("FAIL: run_windows.py disagrees with summary.json (or not 2 windows of 2 cycles in 0.6 s)")
 PY
+# A file that is not a bag: one line naming it, non-zero exit.
+msg=$(/usr/bin/python3 "$src/scripts/run_windows.py" "$out/case.yaml" 2>&1) && { echo "FAIL: run_windows.py read a YAML file as a bag"; exit 1; }
+[[ $msg == "run_windows: $out/case.yaml cannot be read as a bag"* ]] || { echo "FAIL: run_windows.py on a non-bag said: $msg"; exit 1; }
 
 # What a user sees: rviz fed by the recorded DEM bag, under Xvfb.
 export DISPLAY=:$((90 + RANDOM % 100)) LIBGL_ALWAYS_SOFTWARE=1
