@@ -6,8 +6,8 @@ Usage: scripts/run_windows.py RUN.bag [--cycles 2]
 Windows are whole drive cycles (the power swings within a cycle). Per window: test-point amplitude x (half the
 peak-to-peak per drive cycle, averaged over the window's cycles, as summary.json), mean drive power, throughput
 (discharged mass over the window / its length), specific energy (power / throughput), and the mass in the chamber
-at the window's end. summary.json gives these over the last run.settle_s only; a chamber filling up from a
-pre-filled start needs seconds of simulated time.
+at the window's end. summary.json gives one mean over all the run after run.settle_s, which hides a chamber
+still filling up from a pre-filled start (that takes seconds of simulated time).
 """
 import argparse
 import bisect
