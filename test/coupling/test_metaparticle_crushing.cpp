@@ -59,6 +59,31 @@ TEST(MetaparticleCrushing, ProgenyFollowsGaudinSchuhmannBelowTheParentSize) {
 
 namespace {
 
+// Lowers `ceiling` at speed v from height z0, one DEM step of w at a time, until crushed() holds after a step:
+// the ceiling's height then and the largest ceiling force over the steps before (gtest failure if never).
+struct Press {
+  double z = 0, force_before = 0;
+};
+template <class Crushed>
+Press press_until(dem::World& w, dem::MeshContact& ceiling, double z0, double v, Crushed crushed) {
+  dem::Twist down;
+  down.linear = Eigen::Vector3d(0, 0, -v);
+  ceiling.set_twist(down);
+  Press out{z0, 0};
+  long steps = 0;
+  for (; steps < 400000; ++steps) {
+    out.z -= v * w.dt();
+    dem::Pose p;
+    p.position = Eigen::Vector3d(0, 0, out.z);
+    ceiling.set_pose(p);
+    w.step(1);
+    if (crushed()) break;
+    for (const auto& c : ceiling.contacts()) out.force_before = std::max(out.force_before, c.normal_force);
+  }
+  EXPECT_LT(steps, 400000) << "never crushed";
+  return out;
+}
+
 // A sphere of radius r pressed between two steel plates until the contact criterion crushes it: the closure of
 // the plates (both contacts' overlaps) and the largest ceiling force before the break.
 struct PlateCrush {
@@ -69,32 +94,17 @@ PlateCrush crush_between_plates(double r, const coupling::CrushingStrength& stre
   wp.dt = 1e-6;
   wp.threads = 1;
   dem::World w(wp);
-  const double v = 0.02;
   auto floor = plate(w, 0.0, "floor"), ceiling = plate(w, 2 * r + 1e-5, "ceiling");
   w.add_interaction(floor);
   w.add_interaction(ceiling);
   const double x[3] = {0, 0, r};
   w.add_particle(x, r, 0);
-  dem::Twist down;
-  down.linear = Eigen::Vector3d(0, 0, -v);
-  ceiling->set_twist(down);
-  double z_ceiling = 2 * r + 1e-5;
-  PlateCrush out;
-  long steps = 0;
-  for (; steps < 400000; ++steps) {
-    z_ceiling -= v * wp.dt;
-    dem::Pose p;
-    p.position = Eigen::Vector3d(0, 0, z_ceiling);
-    ceiling->set_pose(p);
-    w.step(1);
-    if (!coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, strength,
-                                     w.materials().material(0).density).empty()) break;
-    for (const auto& c : ceiling->contacts()) out.force_before = std::max(out.force_before, c.normal_force);
-  }
-  EXPECT_LT(steps, 400000) << "never crushed";
-  out.closure = 2 * r - z_ceiling;
-  out.E_star = w.materials().pair(0, 1).E_star;
-  return out;
+  const double rho = w.materials().material(0).density;
+  auto crushed = [&] {
+    return !coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, strength, rho).empty();
+  };
+  const auto press = press_until(w, *ceiling, 2 * r + 1e-5, 0.02, crushed);
+  return {2 * r - press.z, press.force_before, w.materials().pair(0, 1).E_star};
 }
 
 }  // namespace
@@ -397,27 +407,16 @@ TEST(MetaparticleCrushing, StressCriterionCrushesASphereInsideAColumnAtItsStreng
   w.add_particle(a, R, 0);
   w.add_particle(b, rm, 0);
   w.add_particle(c, R, 0);
-  dem::Twist down;
-  down.linear = Eigen::Vector3d(0, 0, -v);
-  ceiling->set_twist(down);
-  double z = h + 1e-5, force = 0;
   const double rho = w.materials().material(0).density;
   std::vector<double> s;
-  long steps = 0;
   std::vector<std::size_t> by_stress;
-  for (; steps < 400000; ++steps) {
-    z -= v * wp.dt;
-    dem::Pose p;
-    p.position = Eigen::Vector3d(0, 0, z);
-    ceiling->set_pose(p);
-    w.step(1);
+  auto crushed = [&] {
     EXPECT_TRUE(coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, 1e3 * sigma, rho).empty());
     w.contact_stress(s);
     by_stress = coupling::crushed_by_stress(w.particles(), s, {floor.get(), ceiling.get()}, sigma, rho);
-    if (!by_stress.empty()) break;
-    for (const auto& ct : ceiling->contacts()) force = std::max(force, ct.normal_force);
-  }
-  ASSERT_LT(steps, 400000) << "never crushed";
+    return !by_stress.empty();
+  };
+  const double force = press_until(w, *ceiling, h + 1e-5, v, crushed).force_before;
   const double Fc = coupling::crushing_force(2 * rm, sigma);
   std::printf("column: middle sphere crushed at a column force of %.1f N (its F_c %.1f N)\n", force, Fc);
   ASSERT_EQ(by_stress.size(), 1u);
