@@ -1127,8 +1127,7 @@ void World::step(long nsteps) {
     // a radius change counts like a displacement of the particle's surface (set_radius)
     growth_since_build_ += step_growth_;
     step_growth_ = 0;
-    const bool moved_out = growth_since_build_ > 0 ? 2.0 * (std::sqrt(maxd2) + growth_since_build_) > skin_
-                                                   : 4.0 * maxd2 > skin_ * skin_;
+    const bool moved_out = 2.0 * (std::sqrt(maxd2) + growth_since_build_) > skin_;
     if (need_rebuild_ || skin_ < 0 || moved_out)
       rebuild();
     else if (bonds_dirty_)
