@@ -23,6 +23,7 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                         p.crushing.fragment_growth_s, p.crushing.stress_criterion ? 1.0 : 0.0};
   // Only with the size effect on, so that checkpoints written before it existed still load.
   if (p.crushing.size_exponent != 0) f.insert(f.end(), {p.crushing.size_exponent, p.crushing.reference_size});
+  if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));

@@ -55,25 +55,40 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
         po.density = std::max(0.3, po.density - 0.03);
       }
     }
-    double m = 0;
-    for (double r : rocks_.back().radii) m += 2600.0 * 4.0 / 3.0 * kPi * r * r * r;
-    rock_mass_.push_back(m);
   }
+
+  const dem::MaterialTable table4 = dem::default_table4();
+  double mass = 0, volume = 0;
+  for (const auto& rk : rocks_) {
+    // feed.rock_density: spheres heavier by V / (sum of sphere volumes), so that the rock weighs rho V.
+    const double rho = p_.feed.rock_density > 0 ? p_.feed.rock_density * rk.container_volume / rk.solid_volume()
+                                                 : table4.material(kRock).density;
+    sphere_density_.push_back(rho);
+    rock_mass_.push_back(rho * rk.solid_volume());
+    mass += rock_mass_.back(), volume += rk.solid_volume();
+  }
+  // Lump sizes (crushing strength, screening) and grown fragments are at the rock spheres' mean density: a crushed
+  // sphere's fragments keep its volume, and a sphere is the size it is drawn.
+  rock_density_ = p_.feed.rock_density > 0 ? mass / volume : table4.material(kRock).density;
 
   // Time step from one bonded rock: the stiffer of Hertz (Rayleigh) and bond limits, with margin.
   dem::WorldParams wp;
   wp.threads = p_.threads;
   wp.skin = 0.4 * p_.bpm.metaparticles.max_radius();  // the world starts empty: no automatic skin
-  wp.materials = dem::default_table4();
+  wp.materials = table4;
   double dt = p_.dt_s;
   {
     dem::WorldParams probe = wp;
     probe.check_time_step = false;
     dem::World w(probe);
+    // Spheres made heavier (feed.rock_density) allow a longer Rayleigh step, but their impacts press deeper: the
+    // step stays that of spheres at the material's density.
+    const double probe_density =
+        std::min(table4.material(kRock).density, *std::min_element(sphere_density_.begin(), sphere_density_.end()));
     const auto& r0 = rocks_.front();
     for (std::size_t i = 0; i < r0.size(); ++i) {
       double x[3] = {r0.positions[i].x(), r0.positions[i].y(), r0.positions[i].z()};
-      w.add_particle(x, r0.radii[i], kRock);
+      w.add_particle(x, r0.radii[i], kRock, probe_density, nullptr, nullptr);
     }
     std::vector<std::pair<std::size_t, std::size_t>> pairs(r0.bonds.begin(), r0.bonds.end());
     w.bond_pairs(pairs, bond_);
@@ -88,9 +103,9 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   }
   wp.dt = dt;
   dt_max_ = dt;
-  rock_density_ = wp.materials.material(kRock).density;
   // Smallest sphere of rock density whose Rayleigh step keeps this step stable (fragments of crushed spheres).
-  fragment_min_radius_ = dt / (wp.max_rayleigh_fraction * dem::rayleigh_time_step(1.0, wp.materials.material(kRock)));
+  fragment_min_radius_ =
+      dt / (wp.max_rayleigh_fraction * dem::rayleigh_time_step(1.0, rock_density_, wp.materials.material(kRock)));
   world_ = std::make_unique<dem::World>(wp);
 
   // Liners from the shared geometry (the concave refined at the force-map ring boundaries), plus a
@@ -232,7 +247,7 @@ void ChamberDem::add_rock(int shape, const Eigen::Vector3d& centre, const Eigen:
   for (std::size_t i = 0; i < rk.size(); ++i) {
     const Eigen::Vector3d x = centre + q * rk.positions[i];
     const double xa[3] = {x.x(), x.y(), x.z()};
-    world_->add_particle(xa, rk.radii[i], kRock, va);
+    world_->add_particle(xa, rk.radii[i], kRock, sphere_density_[shape], va, nullptr);
   }
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   pairs.reserve(rk.bonds.size());
@@ -346,7 +361,7 @@ void ChamberDem::feed() {
                                  z_hi + 1.2 * p_.feed.rock_size_m);
     if (place_rock(shape, centre, random_orientation())) {
       feed_credit_kg_ -= rock_mass_[shape];
-      solid += rock_mass_[shape] / 2600.0;
+      solid += rocks_[shape].solid_volume();
     }
   }
 }

@@ -79,6 +79,7 @@ class ChamberDem {
   const std::vector<TrackedPoint>& trajectories() const { return tracks_; }
   double rock_mass_kg(int shape) const;
   std::size_t rock_particles(int shape) const { return rocks_.at(shape).size(); }
+  double sphere_density(int shape) const { return sphere_density_.at(shape); }  // kg/m^3 (feed.rock_density)
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
@@ -119,7 +120,7 @@ class ChamberDem {
   std::unique_ptr<dem::World> world_;
   std::shared_ptr<dem::MeshContact> mantle_, concave_, cap_, hopper_;  // cap rides the mantle, hopper the concave
   std::vector<rocks::RockPacking> rocks_;
-  std::vector<double> rock_mass_;
+  std::vector<double> rock_mass_, sphere_density_;  // per shape: kg, and its spheres' kg/m^3 (feed.rock_density)
   dem::RegionAverager force_avg_;
   double force_window_s_ = 0;
   double z_top_ = 0, z_bottom_ = 0, r_feed_in_ = 0, r_feed_out_ = 0;
@@ -128,7 +129,7 @@ class ChamberDem {
   double prefilled_kg_ = 0;
   double deepest_liner_overlap_ = 0;
   double dt_max_ = 0;
-  double rock_density_ = 0, fragment_min_radius_ = 0;
+  double rock_density_ = 0, fragment_min_radius_ = 0;  // kg/m^3 of the rock spheres (mean), m
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;
   double fed_kg_ = 0, discharged_kg_ = 0, lost_kg_ = 0, crushed_kg_ = 0;
   long fragments_out_ = 0, broken_total_ = 0, crushed_count_ = 0, fragmented_count_ = 0;

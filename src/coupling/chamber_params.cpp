@@ -54,6 +54,7 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
   p.feed.max_fed_kg = f.number_or("max_fed_kg", p.feed.max_fed_kg, 0, 1e9, "kg");
   p.feed.prefill = f.boolean_or("prefill", p.feed.prefill);
   p.feed.prefill_max_kg = f.number_or("prefill_max_kg", p.feed.prefill_max_kg, 0, 1e9, "kg");
+  if (f.has("rock_density_kg_m3")) p.feed.rock_density = f.number("rock_density_kg_m3", 500, 20000, "kg/m^3");
 
   if (dem.has("bpm_file")) {
     std::string f = dem.text("bpm_file");

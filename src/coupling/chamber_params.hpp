@@ -25,6 +25,12 @@ struct FeedParams {
   // level (or to prefill_max_kg / max_fed_kg), so crushing starts at once; counted as fed.
   bool prefill = false;
   double prefill_max_kg = 1e9;
+  // Solid density of the fed rock (kg/m^3). A rock packed to solid fraction phi with spheres of the material's
+  // density rho weighs phi rho V; with rock_density set, its spheres are made heavier (rock_density V / their
+  // volume, ~rock_density / phi) so that it weighs rock_density V. Sizes stay the spheres' (crushing strength,
+  // screening), and a crushed sphere's grown fragments keep its volume. 0: spheres at the material's density
+  // (Table 4: 2600).
+  double rock_density = 0;
 };
 
 struct ChamberParams {

@@ -95,8 +95,8 @@ class DemNode {
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
-      ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f", k,
-               dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k));
+      ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f, spheres at %.0f kg/m^3", k,
+               dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k), dem_->sphere_density(k));
     }
     ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
     const auto& cr = cfg_.chamber.crushing;

@@ -164,6 +164,9 @@ TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
   ASSERT_FALSE(e1.empty()) << "a checkpoint of another feed was accepted";
   EXPECT_NE(e1.find("another feed"), std::string::npos) << e1;
   EXPECT_NE(e1.find("x.ckpt"), std::string::npos) << e1;
+  auto heavier = p;
+  heavier.feed.rock_density = 2600;  // the same rocks, weighing their volume (feed.rock_density)
+  EXPECT_NE(load_error(heavier, bytes, "x.ckpt").find("another feed"), std::string::npos);
   const std::string e2 = load_error(p, bytes.substr(0, bytes.size() / 2), "half.ckpt");
   ASSERT_FALSE(e2.empty()) << "a truncated checkpoint was accepted";
   EXPECT_NE(e2.find("truncated"), std::string::npos) << e2;
