@@ -3,8 +3,12 @@
 // (bonds a tenth of Table 4's stiffness for a 3x longer stable step, Table 4 strengths), and a mantle that
 // gyrates with its axis tilted and precessing at 10 Hz about the crusher axis.
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "coupling/chamber_dem.hpp"
+#include "mbd/mechanism_params.hpp"
 
 namespace test_chamber {
 
@@ -54,6 +58,22 @@ inline void gyrate(const coupling::ChamberParams& p, double t, double tilt, coup
   m->angular_velocity = axis.cross(axis_dot);
   m->com = m->orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
   m->velocity = m->angular_velocity.cross(m->com);
+}
+
+// The quick demo's chamber parameters, read from launch_free_configs/quick_demo.yaml with `extra` (YAML lines)
+// inserted before the line `before` (which must be in the file).
+inline coupling::ChamberParams quick_demo_with(const std::string& extra, const std::string& before) {
+  std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const auto at = text.find(before);
+  if (at == std::string::npos) throw std::logic_error("quick_demo.yaml has no line '" + before + "'");
+  text.insert(at, extra);
+  auto root = core::ConfigNode::load_string(text, "quick_demo+test");
+  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
+                                       mech.fixed_cone.com_z_m);
 }
 
 }  // namespace test_chamber

@@ -2,15 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <memory>
 #include <numeric>
-#include <sstream>
 
 #include "coupling/chamber_dem.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "dem/world.hpp"
-#include "mbd/mechanism_params.hpp"
 #include "small_chamber.hpp"
 
 namespace {
@@ -155,19 +152,8 @@ TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsSizeDependentStrength) 
 
 // The crushing keys of dem.crushing are read with their units, and a value out of range is refused by name.
 TEST(MetaparticleCrushing, ConfigReadsTheSizeEffect) {
-  const std::string file = std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml";
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str(), key = "    progeny_exponent: 1.0";
-  ASSERT_NE(text.find(key), std::string::npos);
-  auto load = [&](const std::string& extra) {
-    std::string t = text;
-    t.insert(t.find(key), extra);
-    auto root = core::ConfigNode::load_string(t, "quick_demo+size_effect");
-    const auto mech = mbd::load_mechanism_params(root.child("mbd"));
-    return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
-                                         mech.fixed_cone.com_z_m);
+  auto load = [](const std::string& extra) {
+    return test_chamber::quick_demo_with(extra, "    progeny_exponent: 1.0");
   };
   const auto p = load("    size_exponent: 0.54\n    reference_size_mm: 40\n");
   EXPECT_DOUBLE_EQ(p.crushing.size_exponent, 0.54);

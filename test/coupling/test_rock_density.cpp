@@ -3,17 +3,16 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "coupling/chamber_dem.hpp"
-#include "mbd/mechanism_params.hpp"
 #include "small_chamber.hpp"
 
 namespace {
 
-double sphere_density(const dem::Particles& P, std::size_t i) { return P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3)); }
+double sphere_density(const dem::Particles& P, std::size_t i) {
+  return P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3));
+}
 
 }  // namespace
 
@@ -90,20 +89,7 @@ TEST(RockDensity, FedRocksCarryTheHeavierSpheresAndFragmentsKeepTheirVolume) {
 // dem.feed.rock_density_kg_m3 is read in kg/m^3; absent it is 0 (spheres at the material's density), and a value
 // out of range is refused by name.
 TEST(RockDensity, ConfigReadsTheRockDensity) {
-  const std::string file = std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml";
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str(), key = "    prefill: true";
-  ASSERT_NE(text.find(key), std::string::npos);
-  auto load = [&](const std::string& extra) {
-    std::string t = text;
-    t.insert(t.find(key), extra);
-    auto root = core::ConfigNode::load_string(t, "quick_demo+rock_density");
-    const auto mech = mbd::load_mechanism_params(root.child("mbd"));
-    return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
-                                         mech.fixed_cone.com_z_m);
-  };
+  auto load = [](const std::string& extra) { return test_chamber::quick_demo_with(extra, "    prefill: true"); };
   EXPECT_DOUBLE_EQ(load("    rock_density_kg_m3: 2700\n").feed.rock_density, 2700.0);
   EXPECT_EQ(load("").feed.rock_density, 0.0);
   try {
