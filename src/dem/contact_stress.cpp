@@ -1,5 +1,6 @@
 // World::contact_stress: each particle's mean stress x volume from its contacts and bonds (world.hpp).
 #include <cmath>
+#include <vector>
 
 #include "dem/hertz_mindlin.hpp"
 #include "dem/world.hpp"
@@ -19,7 +20,16 @@ void World::contact_stress(std::vector<double>& s) const {
   const std::size_t n = p_.size();
   s.assign(6 * n, 0.0);
   const bool list_valid = istart_.size() == n + 1 && touch_.size() >= npairs_;
-  for (std::size_t q = 0; list_valid && q < npairs_; ++q) {
+  const long np = list_valid ? static_cast<long>(npairs_) : 0;
+  // Each touching pair's force and normal (the Hertz force is the cost: in parallel), then the sums in pair order
+  // (serial: the same sums, bit for bit, whatever the thread count).
+  std::vector<double>& fn = stress_pair_force_;
+  std::vector<char>& on = stress_pair_touch_;
+  if (fn.size() < 6 * static_cast<std::size_t>(np)) fn.resize(6 * static_cast<std::size_t>(np));
+  if (on.size() < static_cast<std::size_t>(np)) on.resize(static_cast<std::size_t>(np));
+#pragma omp parallel for num_threads(nt_) schedule(static) if (nt_ > 1 && np >= 1024)
+  for (long q = 0; q < np; ++q) {
+    on[q] = 0;
     if (!touch_[q]) continue;
     const uint32_t i = pi_[q], j = pj_[q];
     const double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j], dz = p_.z[i] - p_.z[j];
@@ -31,11 +41,20 @@ void World::contact_stress(std::vector<double>& s) const {
     const double r_eff = p_.r[i] * p_.r[j] / (p_.r[i] + p_.r[j]), m_eff = p_.m[i] * p_.m[j] / (p_.m[i] + p_.m[j]);
     hertz_mindlin(delta, nrm, zero, zero, r_eff, m_eff, prm_.materials.pair(p_.material[i], p_.material[j]), 0.0,
                   hist, cf);
+    double* o = &fn[6 * q];
+    for (int k = 0; k < 3; ++k) o[k] = cf.f[k], o[3 + k] = nrm[k];
+    on[q] = 1;
+  }
+  for (long q = 0; q < np; ++q) {
+    if (!on[q]) continue;
+    const uint32_t i = pi_[q], j = pj_[q];
+    const double* f = &fn[6 * q];
+    const double* nrm = f + 3;
     const double ai = p_.r[i], aj = p_.r[j];  // arms at the radius (world.hpp)
     const double to_ci[3] = {-ai * nrm[0], -ai * nrm[1], -ai * nrm[2]};
     const double to_cj[3] = {aj * nrm[0], aj * nrm[1], aj * nrm[2]};
-    const double fj[3] = {-cf.f[0], -cf.f[1], -cf.f[2]};
-    add_contact_stress(&s[6 * i], to_ci, cf.f);
+    const double fj[3] = {-f[0], -f[1], -f[2]};
+    add_contact_stress(&s[6 * i], to_ci, f);
     add_contact_stress(&s[6 * j], to_cj, fj);
   }
   for (const Bond& b : bonds_) {

@@ -190,6 +190,8 @@ class World {
   WorldParams prm_;
   Particles p_;
   int nt_ = 1;
+  mutable std::vector<double> stress_pair_force_;  // contact_stress's scratch: per pair f and n (6), touching
+  mutable std::vector<char> stress_pair_touch_;
   double skin_ = -1;
   double t_ = 0;
   long nstep_ = 0, nrebuild_ = 0;
