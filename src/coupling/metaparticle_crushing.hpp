@@ -27,7 +27,8 @@
 // the lumps it stands for would (Cleary & Sinnott grow the progeny of their particle replacement in the same way).
 // With 0 they stay 2.75x denser and take 36 % of the parent's volume. Experimental (README). Sizes (strength,
 // progeny, screening) are mass-equivalent:
-//   d_eq = (6 m / (pi rho_rock))^(1/3).
+//   d_eq = (6 m / (pi rho_rock))^(1/3),
+// with rho_rock the rock spheres' density (the material's, or heavier with feed.rock_density: chamber_params.hpp).
 // Size effect (size_exponent k > 0): small lumps hold fewer and smaller flaws and are stronger (Weibull),
 //   sigma(d) = sigma_t (d_ref / d)^k,
 // with sigma_t measured at d_ref (the 50 mm Brazilian disk, Eq. 26). Single-particle crushing of limestone,
