@@ -133,18 +133,3 @@ TEST(RockDensity, FragmentsGrowAsSpaceAllows) {
   EXPECT_NEAR(b.fed_kg, b.in_chamber_kg + b.discharged_kg + b.lost_kg, 1e-9 * b.fed_kg);
   EXPECT_GT(waiting_limited, 2 * waiting_free);
 }
-
-// dem.crushing.growth_max_overlap is read as a fraction (default 0: free growth) and refused above 0.5 by name.
-TEST(RockDensity, ConfigReadsTheGrowthLimit) {
-  auto load = [](const std::string& extra) {
-    return test_chamber::quick_demo_with(extra, "    progeny_exponent: 1.0");
-  };
-  EXPECT_DOUBLE_EQ(load("    growth_max_overlap: 0.05\n").crushing.growth_max_overlap, 0.05);
-  EXPECT_EQ(load("").crushing.growth_max_overlap, 0.0);
-  try {
-    load("    growth_max_overlap: 0.8\n");
-    FAIL() << "expected a ConfigError";
-  } catch (const core::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("dem.crushing.growth_max_overlap"), std::string::npos) << e.what();
-  }
-}
