@@ -24,7 +24,6 @@ std::vector<double> fingerprint(const ChamberDem& d) {
   // Only with the size effect on, so that checkpoints written before it existed still load.
   if (p.crushing.size_exponent != 0) f.insert(f.end(), {p.crushing.size_exponent, p.crushing.reference_size});
   if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
-  if (p.crushing.growth_max_overlap > 0) f.push_back(p.crushing.growth_max_overlap);  // likewise
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));

@@ -485,27 +485,13 @@ void ChamberDem::crush_squeezed(bool flush) {
   }
 }
 
-// Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius;
-// with crushing.growth_max_overlap, only while they overlap no other particle by more than that part of their radius.
+// Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.
 void ChamberDem::grow_fragments(double h) {
   const auto& P = world_->particles();
-  const double limit = p_.crushing.growth_max_overlap;
-  if (limit > 0) {
-    grow_flag_.assign(P.size(), 0);
-    for (const Growing& g : growing_) {
-      const long i = world_->index_of(g.id);
-      if (i >= 0) grow_flag_[static_cast<std::size_t>(i)] = 1;
-    }
-    world_->max_overlap_ratios(grow_flag_, grow_overlap_);
-  }
   std::size_t keep = 0;
   for (const Growing& g : growing_) {
     const long i = world_->index_of(g.id);
     if (i < 0) continue;  // crushed again or discharged while growing
-    if (limit > 0 && grow_overlap_[static_cast<std::size_t>(i)] > limit) {  // pressed: wait for room
-      growing_[keep++] = g;
-      continue;
-    }
     const double r = std::min(g.r_end, P.r[i] + g.rate * h);
     world_->set_radius(static_cast<std::size_t>(i), r);
     if (r < g.r_end) growing_[keep++] = g;

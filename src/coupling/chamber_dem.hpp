@@ -138,8 +138,6 @@ class ChamberDem {
     double r_end, rate;  // m, m/s
   };
   std::vector<Growing> growing_;  // ascending ids
-  std::vector<char> grow_flag_;    // grow_fragments' scratch: growing particles, their largest overlap ratios
-  std::vector<double> grow_overlap_;
   std::vector<double> stress_;     // World::contact_stress scratch (crushing.stress_criterion)
   std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
   double first_crush_t_ = 0;

@@ -39,7 +39,6 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
     p.crushing.min_fragment_m =
         c.number_or("min_fragment_mm", p.crushing.min_fragment_m / u::mm, 0.1, 1000, "mm", u::mm);
     p.crushing.fragment_growth_s = c.number_or("fragment_growth_s", p.crushing.fragment_growth_s, 0, 1, "s");
-    p.crushing.growth_max_overlap = c.number_or("growth_max_overlap", p.crushing.growth_max_overlap, 0, 0.5, "");
     p.crushing.reference_size =
         c.number_or("reference_size_mm", p.crushing.reference_size / u::mm, 1, 10000, "mm", u::mm);
     p.crushing.size_exponent = c.number_or("size_exponent", p.crushing.size_exponent, 0, 1.5, "");

@@ -58,10 +58,6 @@ struct CrushingParams {
   bool fragments = false;        // replace a crushed sphere by four (above); off: it leaves as fines at once
   double min_fragment_m = 4e-3;  // m, mass-equivalent size below which a fragment leaves as fines
   double fragment_growth_s = 0;  // s, time a fragment takes to grow to the rock's density (0: it stays heavy)
-  // Growth as space allows: a growing fragment pauses while it overlaps another particle by more than this
-  // fraction of its radius (0: it grows regardless). Four siblings growing in a confined bed otherwise press
-  // into each other and their neighbours, and fly apart when freed.
-  double growth_max_overlap = 0;
   double reference_size = 0.05;  // m, d_ref: the size at which tensile_strength was measured
   double size_exponent = 0;      // k of the size effect (above); 0: none
 };

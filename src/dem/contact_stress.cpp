@@ -1,9 +1,5 @@
-// World::contact_stress: each particle's mean stress x volume from its contacts and bonds; World::max_overlap_ratios
-// (world.hpp).
-#include <algorithm>
+// World::contact_stress: each particle's mean stress x volume from its contacts and bonds (world.hpp).
 #include <cmath>
-#include <stdexcept>
-#include <string>
 #include <vector>
 
 #include "dem/hertz_mindlin.hpp"
@@ -74,24 +70,6 @@ void World::contact_stress(std::vector<double>& s) const {
     const double to_cj[3] = {-cj * nrm[0], -cj * nrm[1], -cj * nrm[2]};
     add_contact_stress(&s[6 * b.i], to_ci, fi);
     add_contact_stress(&s[6 * b.j], to_cj, fj);
-  }
-}
-
-void World::max_overlap_ratios(const std::vector<char>& only, std::vector<double>& ratio) const {
-  const std::size_t n = p_.size();
-  if (only.size() != n)
-    throw std::invalid_argument("dem::World::max_overlap_ratios: " + std::to_string(only.size()) +
-                                " flags for " + std::to_string(n) + " particles");
-  ratio.assign(n, 0.0);
-  if (istart_.size() != n + 1) return;  // no valid list yet: no contacts known
-  for (std::size_t q = 0; q < npairs_; ++q) {
-    const uint32_t i = pi_[q], j = pj_[q];
-    if (!only[i] && !only[j]) continue;
-    const double dx = p_.x[i] - p_.x[j], dy = p_.y[i] - p_.y[j], dz = p_.z[i] - p_.z[j];
-    const double delta = p_.r[i] + p_.r[j] - std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (!(delta > 0)) continue;
-    if (only[i]) ratio[i] = std::max(ratio[i], delta / p_.r[i]);
-    if (only[j]) ratio[j] = std::max(ratio[j], delta / p_.r[j]);
   }
 }
 

@@ -128,9 +128,6 @@ class World {
   // damping: the spring state as it stands), bonds with their spring forces. Walls and interactions are not in it
   // (contact_stress.cpp).
   void contact_stress(std::vector<double>& s) const;
-  // For each particle with only[i] != 0: the largest overlap with another particle over its radius, delta / r_i, at
-  // the present positions over the neighbour list (0 where none or only[i] == 0). `only` has one entry per particle.
-  void max_overlap_ratios(const std::vector<char>& only, std::vector<double>& ratio) const;
   std::size_t n_pairs() const { return npairs_; }  // neighbour-list pairs
   long n_rebuilds() const { return nrebuild_; }
   const MaterialTable& materials() const { return prm_.materials; }

@@ -99,37 +99,3 @@ TEST(RockDensity, ConfigReadsTheRockDensity) {
     EXPECT_NE(std::string(e.what()).find("dem.feed.rock_density_kg_m3"), std::string::npos) << e.what();
   }
 }
-
-// crushing.growth_max_overlap: fragments grow only while no other particle is pressed into them deeper than that
-// part of their radius; pressed ones wait for room. In the small gyrating chamber the fragments find room easily
-// (a limit of 0.01 r leaves as many growing at a time as free growth: 176 against 155), so a limit of 1e-6 r,
-// which pauses every fragment touched by a neighbour, shows the pause: many more are still growing at a time.
-TEST(RockDensity, FragmentsGrowAsSpaceAllows) {
-  auto p = test_chamber::prefilled_small_chamber(0.5, 0.8);
-  p.feed.rock_density = 2600;
-  p.crushing.enabled = true;
-  p.crushing.tensile_strength = 0.5e6;
-  p.crushing.batch_s = 2e-4;
-  p.crushing.fragments = true;
-  p.crushing.min_fragment_m = 4e-3;
-  p.crushing.fragment_growth_s = 5e-3;
-  auto q = p;
-  q.crushing.growth_max_overlap = 1e-6;
-  coupling::ChamberDem free(p), limited(q);
-  coupling::BodyMotion m, c;
-  c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
-  std::size_t waiting_free = 0, waiting_limited = 0;
-  for (int k = 0; k < 120; ++k) {
-    test_chamber::gyrate(p, k * 1e-3, 3.0 * M_PI / 180, &m);
-    free.advance(m, c, 1e-3);
-    limited.advance(m, c, 1e-3);
-    waiting_free = std::max(waiting_free, free.growing_fragments());
-    waiting_limited = std::max(waiting_limited, limited.growing_fragments());
-  }
-  const auto a = free.product(), b = limited.product();
-  std::printf("free growth: %ld fragmented, up to %zu growing at a time; growth_max_overlap 1e-6: %ld fragmented, up "
-              "to %zu growing\n", a.metaparticles_fragmented, waiting_free, b.metaparticles_fragmented, waiting_limited);
-  ASSERT_GT(b.metaparticles_fragmented, 20);
-  EXPECT_NEAR(b.fed_kg, b.in_chamber_kg + b.discharged_kg + b.lost_kg, 1e-9 * b.fed_kg);
-  EXPECT_GT(waiting_limited, 2 * waiting_free);
-}

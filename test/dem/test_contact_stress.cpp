@@ -71,27 +71,3 @@ TEST(ContactStress, TracesAddUpToTheHertzForcesAndThreadsAgreeBitForBit) {
   ASSERT_EQ(s1.size(), s2.size());
   EXPECT_EQ(std::memcmp(s1.data(), s2.data(), s1.size() * sizeof(double)), 0);
 }
-
-// World::max_overlap_ratios: the largest overlap over the particle's own radius, for the flagged particles only.
-TEST(MaxOverlapRatios, LargestOverlapOverOwnRadiusForFlaggedParticles) {
-  dem::WorldParams wp;
-  wp.dt = 1e-8;
-  wp.threads = 1;
-  wp.gravity = {0, 0, 0};
-  wp.check_time_step = false;
-  dem::World w(wp);
-  const double a[3] = {0, 0, 0}, b[3] = {2.9e-3, 0, 0}, c[3] = {0, 2.95e-3, 0}, far[3] = {0.1, 0, 0};
-  w.add_particle(a, 1e-3, 0);  // 0.1 mm into b (r 2 mm), 0.05 mm into c (r 2 mm)
-  w.add_particle(b, 2e-3, 0);
-  w.add_particle(c, 2e-3, 0);
-  w.add_particle(far, 1e-3, 0);
-  w.step(1);
-  std::vector<double> ratio;
-  w.max_overlap_ratios({1, 0, 1, 1}, ratio);
-  ASSERT_EQ(ratio.size(), 4u);
-  EXPECT_NEAR(ratio[0], 0.1, 1e-6);   // the deeper of its two contacts, over its 1 mm
-  EXPECT_EQ(ratio[1], 0.0);           // not flagged
-  EXPECT_NEAR(ratio[2], 0.025, 1e-6);  // 0.05 mm over its 2 mm
-  EXPECT_EQ(ratio[3], 0.0);           // touches nothing
-  EXPECT_THROW(w.max_overlap_ratios({1, 0}, ratio), std::invalid_argument);
-}
