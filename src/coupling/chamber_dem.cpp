@@ -16,6 +16,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kRock = 0, kSteel = 1;  // dem::default_table4() indices
+constexpr int kFragmentOrientations = 8;  // tetrahedron turns tried per crushed sphere (place_fragments)
 
 // Profile points bottom to top (z is monotonic), as revolve_profile expects for outward normals.
 std::vector<dem::ProfilePoint> ascending(const core::Profile& p) {
@@ -452,7 +453,10 @@ void ChamberDem::crush_squeezed(bool flush) {
   std::vector<Fragment> born;
   double mass = 0;
   const bool grow = p_.crushing.fragment_growth_s > 0;
-  for (std::size_t i : idx) {
+  const auto obstacles = p_.crushing.fragments ? birth_obstacles(idx, remove) : std::vector<std::vector<Obstacle>>();
+  std::vector<Eigen::Matrix3d> turns(kFragmentOrientations);
+  for (std::size_t n = 0; n < idx.size(); ++n) {
+    const std::size_t i = idx[n];
     const double d = equivalent_diameter(P.m[i], rock_density_);
     const double r_f = fragment_radius(P.r[i]);
     const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
@@ -462,9 +466,16 @@ void ChamberDem::crush_squeezed(bool flush) {
     // growing one ends at the rock's density.
     const double stable_r = grow ? r_end : r_f * std::sqrt(rho_f / rock_density_);
     if (p_.crushing.fragments && d_f >= p_.crushing.min_fragment_m && stable_r >= fragment_min_radius_) {
-      const auto set = tetrahedral_fragments(P.r[i], random_orientation().toRotationMatrix());
       const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
-      for (const auto& o : set.offset) born.push_back({x + o, v + w.cross(o), w, set.radius, rho_f, r_end});
+      for (auto& t : turns) t = random_orientation().toRotationMatrix();
+      const auto placed = place_fragments(x, P.r[i], turns, obstacles[n], grow);
+      deepest_birth_overlap_ = std::max(deepest_birth_overlap_, placed.deepest);
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector3d& o = placed.set.offset[k];
+        const double rb = placed.birth_radius[k];
+        if (rb < placed.set.radius) ++shrunk_at_birth_;
+        born.push_back({x + o, v + w.cross(o), w, rb, rho_f * std::pow(placed.set.radius / rb, 3), r_end});
+      }
       ++fragmented_count_;
       continue;
     }
@@ -483,6 +494,45 @@ void ChamberDem::crush_squeezed(bool flush) {
     const std::size_t k = world_->add_particle(f.x.data(), f.r, kRock, f.rho, f.v.data(), f.w.data());
     if (f.r_end > f.r) growing_.push_back({P.id[k], f.r_end, (f.r_end - f.r) / p_.crushing.fragment_growth_s});
   }
+}
+
+std::vector<std::vector<Obstacle>> ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx,
+                                                               const std::vector<char>& crushed) const {
+  const auto& P = world_->particles();
+  std::vector<std::vector<Obstacle>> out(idx.size());
+  if (idx.empty()) return out;
+  double r_max = 0;
+  for (std::size_t j = 0; j < P.size(); ++j) r_max = std::max(r_max, P.r[j]);
+  // Crushed spheres hashed by cells of 2 r_max: a sphere touching one lies in its cell or a neighbouring one.
+  const double cell = 2 * r_max;
+  auto key = [cell](double x, double y, double z, int a, int b, int c) {
+    const auto q = [cell](double v, int d) { return static_cast<int64_t>(std::floor(v / cell)) + d; };
+    return (q(x, a) * 73856093) ^ (q(y, b) * 19349663) ^ (q(z, c) * 83492791);
+  };
+  std::unordered_map<int64_t, std::vector<std::size_t>> grid;
+  for (std::size_t n = 0; n < idx.size(); ++n) grid[key(P.x[idx[n]], P.y[idx[n]], P.z[idx[n]], 0, 0, 0)].push_back(n);
+  for (std::size_t j = 0; j < P.size(); ++j) {
+    if (crushed[j]) continue;
+    for (int a = -1; a <= 1; ++a)
+      for (int b = -1; b <= 1; ++b)
+        for (int c = -1; c <= 1; ++c) {
+          const auto it = grid.find(key(P.x[j], P.y[j], P.z[j], a, b, c));
+          if (it == grid.end()) continue;
+          for (std::size_t n : it->second) {
+            const std::size_t i = idx[n];
+            const Eigen::Vector3d d(P.x[j] - P.x[i], P.y[j] - P.y[i], P.z[j] - P.z[i]);
+            if (d.norm() < P.r[i] + P.r[j]) out[n].push_back({Eigen::Vector3d(P.x[j], P.y[j], P.z[j]), Eigen::Vector3d::Zero(), P.r[j]});
+          }
+        }
+  }
+  std::vector<long> slot(P.size(), -1);
+  for (std::size_t n = 0; n < idx.size(); ++n) slot[idx[n]] = static_cast<long>(n);
+  for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
+    for (const auto& c : mc->contacts()) {
+      const auto i = static_cast<std::size_t>(c.particle_index);
+      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0) out[slot[i]].push_back({c.point, c.normal, 0.0});
+    }
+  return out;
 }
 
 // Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.

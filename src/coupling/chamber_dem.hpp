@@ -86,6 +86,10 @@ class ChamberDem {
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
+  // Fragment birth (place_fragments), since this object was made (not checkpointed): the deepest overlap ratio of a
+  // fragment at its set radius in the chosen orientation, and how many fragments were born smaller than that.
+  double deepest_birth_overlap() const { return deepest_birth_overlap_; }
+  long fragments_shrunk_at_birth() const { return shrunk_at_birth_; }
   // Smallest sphere of rock density the stable step allows; a heavy fragment (crushing.fragments without growth)
   // may be smaller by sqrt(its density / the rock's), a growing one must reach it when grown, else it leaves as fines.
   double fragment_min_radius() const { return fragment_min_radius_; }
@@ -107,6 +111,10 @@ class ChamberDem {
   void discharge();
   void crush_squeezed(bool flush);
   void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
+  // Per crushed sphere (indices idx), what its fragments may touch at birth: the spheres it overlaps (not those
+  // crushed with it) and the liners it presses (their tangent planes).
+  std::vector<std::vector<Obstacle>> birth_obstacles(const std::vector<std::size_t>& idx,
+                                                     const std::vector<char>& crushed) const;
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
   // hopper (allowing for their flat facets) and outside the mantle and its cap.
@@ -127,7 +135,8 @@ class ChamberDem {
   core::Profile inner_, outer_;  // chamber walls in the liner frames: mantle + cap, concave + hopper
   bool prefilled_ = false;
   double prefilled_kg_ = 0;
-  double deepest_liner_overlap_ = 0;
+  double deepest_liner_overlap_ = 0, deepest_birth_overlap_ = 0;
+  long shrunk_at_birth_ = 0;
   double dt_max_ = 0;
   double rock_density_ = 0, fragment_min_radius_ = 0;  // kg/m^3 of the rock spheres (mean), m
   double next_bookkeeping_ = 0, feed_credit_kg_ = 0;

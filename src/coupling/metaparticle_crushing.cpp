@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "dem/world.hpp"
 
@@ -15,6 +16,11 @@ double CrushingStrength::force(double d) const { return crushing_force(d, sigma(
 
 double equivalent_diameter(double m, double rho) { return std::cbrt(6.0 * m / (M_PI * rho)); }
 
+double CrushingStrength::force_of_sphere(double m, double r, double rho) const {
+  const double d = equivalent_diameter(m, rho);
+  return crushing_force(std::min(d, 2.0 * r), sigma(d));
+}
+
 // Four equal spheres touching each other and the parent's surface: r_f = r / (1 + sqrt(3/2)), centres at
 // r - r_f from the parent's centre along the vertices of a regular tetrahedron.
 double fragment_radius(double parent_radius) { return parent_radius / (1.0 + std::sqrt(1.5)); }
@@ -26,6 +32,52 @@ FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& r
   const double d = (parent_radius - f.radius) / std::sqrt(3.0);
   for (int k = 0; k < 4; ++k) f.offset[k] = d * (rotation * Eigen::Vector3d(v[k][0], v[k][1], v[k][2]));
   return f;
+}
+
+double overlap_ratio(const Eigen::Vector3d& x, double r, const Obstacle& o) {
+  if (o.r <= 0) return (r - (x - o.c).dot(o.n)) / r;
+  return (r + o.r - (x - o.c).norm()) / std::min(r, o.r);
+}
+
+PlacedFragments place_fragments(const Eigen::Vector3d& x, double r, const std::vector<Eigen::Matrix3d>& orientations,
+                                const std::vector<Obstacle>& obstacles, bool shrink) {
+  if (orientations.empty()) throw std::invalid_argument("place_fragments: no orientation to try");
+  auto deepest = [&](const FragmentSet& f) {
+    double worst = -1e300;
+    for (const auto& off : f.offset)
+      for (const auto& o : obstacles) worst = std::max(worst, overlap_ratio(x + off, f.radius, o));
+    return worst;
+  };
+  PlacedFragments best;
+  best.deepest = 1e300;
+  for (const auto& rot : orientations) {
+    const FragmentSet f = tetrahedral_fragments(r, rot);
+    const double d = obstacles.empty() ? 0.0 : deepest(f);
+    if (d < best.deepest) {
+      best.set = f;
+      best.deepest = d;
+    }
+  }
+  best.deepest = std::max(best.deepest, 0.0);
+  const double rf = best.set.radius, b = kFragmentBirthOverlap;
+  for (int k = 0; k < 4; ++k) {
+    double rb = rf;
+    if (shrink) {
+      const Eigen::Vector3d xf = x + best.set.offset[k];
+      for (const auto& o : obstacles) {
+        // Largest radius with overlap <= b x (the smaller radius), from overlap_ratio solved for r.
+        if (o.r <= 0) {
+          rb = std::min(rb, (xf - o.c).dot(o.n) / (1 - b));
+        } else {
+          const double d = (xf - o.c).norm();
+          rb = std::min(rb, std::min((d - o.r) / (1 - b), d - (1 - b) * o.r));
+        }
+      }
+      rb = std::max(rb, 0.5 * rf);
+    }
+    best.birth_radius[k] = rb;
+  }
+  return best;
 }
 
 namespace {
@@ -52,7 +104,7 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
       double f = 0;
       for (; b < load.size() && load[b].first == load[a].first; ++b) f += load[b].second;
       const std::size_t i = load[a].first;
-      if (f > strength.force(equivalent_diameter(P.m[i], rho))) out.push_back(i);
+      if (f > strength.force_of_sphere(P.m[i], P.r[i], rho)) out.push_back(i);
       a = b;
     }
   }
@@ -83,7 +135,7 @@ std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<
   for (std::size_t i = 0; i < P.size(); ++i) {
     const double* t = &s[6 * i];
     if (t[0] == 0 && t[1] == 0 && t[2] == 0 && t[3] == 0 && t[4] == 0 && t[5] == 0) continue;
-    if (equivalent_diametral_load(t, P.r[i]) > strength.force(equivalent_diameter(P.m[i], rho))) out.push_back(i);
+    if (equivalent_diametral_load(t, P.r[i]) > strength.force_of_sphere(P.m[i], P.r[i], rho)) out.push_back(i);
   }
   return out;
 }

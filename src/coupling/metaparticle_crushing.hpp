@@ -71,6 +71,11 @@ struct CrushingStrength {
       : CrushingStrength(p.tensile_strength, p.reference_size, p.size_exponent) {}
   double sigma(double d) const;  // Pa
   double force(double d) const;  // N
+  // F_c of a sphere of radius r and mass m, a lump of rock density rho: the strength sigma(d_eq) of its
+  // mass-equivalent size, over the area of the smaller of d_eq and 2 r. A sphere denser than rock (a fragment
+  // still growing, or kept heavy) then breaks at the contact stress of a rock sphere of its own size, so its
+  // overlap at breakage stays that of a rock sphere (not (rho / rho_rock)^(1/3) deeper, 1.8x at 6x the density).
+  double force_of_sphere(double m, double r, double rho) const;  // N
   double sigma_t, d_ref, k;
 };
 
@@ -87,6 +92,33 @@ struct FragmentSet {
   std::array<Eigen::Vector3d, 4> offset;
 };
 FragmentSet tetrahedral_fragments(double parent_radius, const Eigen::Matrix3d& rotation);
+
+// Placing a crushed sphere's fragments. A sphere is crushed while pressed into its neighbours, by up to ~0.25 of
+// its radius for a small rock sphere at its strength. A fragment inside it keeps at most that overlap, but measured
+// against its own 0.45x radius it is up to 2.2x deeper: beyond the blow-up bound (0.5) and a kick of stored energy
+// at birth. So the tetrahedron is turned, of `orientations` tries, to the one whose deepest fragment overlap (a
+// fraction of the smaller radius) is least, and, where fragments grow, a fragment still deeper than
+// kFragmentBirthOverlap is born that much smaller (at the same mass) and grows into place with the others.
+constexpr double kFragmentBirthOverlap = 0.25;
+
+// What a fragment may touch at birth: a sphere (centre c, radius r > 0) or a liner's tangent plane (point c on it,
+// unit normal n towards the crushed sphere, r = 0).
+struct Obstacle {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::Zero();
+  double r = 0;
+};
+// Overlap of a sphere (x, r) with an obstacle as a fraction of the smaller radius (of r for a plane); <= 0 clear.
+double overlap_ratio(const Eigen::Vector3d& x, double r, const Obstacle& o);
+// The fragments of a sphere (centre x, radius r) turned by the best of `orientations` (above), and per fragment its
+// birth radius: the set's radius, or (with `shrink`) less, so that no overlap ratio exceeds kFragmentBirthOverlap,
+// but not below half the set's radius.
+struct PlacedFragments {
+  FragmentSet set;
+  std::array<double, 4> birth_radius{};
+  double deepest = 0;  // deepest overlap ratio of the chosen orientation at the set's radius
+};
+PlacedFragments place_fragments(const Eigen::Vector3d& x, double r, const std::vector<Eigen::Matrix3d>& orientations,
+                                const std::vector<Obstacle>& obstacles, bool shrink);
 
 // F_c of a sphere of diameter d (N), size-independent strength.
 double crushing_force(double d, double tensile_strength);

@@ -188,6 +188,10 @@ class DemNode {
              dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
              p.crushed_kg, p.metaparticles_crushed, p.metaparticles_fragmented,
              100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
+    if (p.metaparticles_fragmented > 0)
+      ROS_INFO("dem_node: fragment birth (this process): deepest overlap %.2f of the smaller radius in the best "
+               "orientation, %ld fragments born smaller to stay within %.2f", dem_->deepest_birth_overlap(),
+               dem_->fragments_shrunk_at_birth(), coupling::kFragmentBirthOverlap);
     return status;
   }
 

@@ -86,7 +86,8 @@ Press press_until(dem::World& w, dem::MeshContact& ceiling, double z0, double v,
 struct PlateCrush {
   double closure = 0, force_before = 0, E_star = 0;
 };
-PlateCrush crush_between_plates(double r, const coupling::CrushingStrength& strength) {
+// density_factor: the sphere's density over the rock's (a fragment still growing is denser).
+PlateCrush crush_between_plates(double r, const coupling::CrushingStrength& strength, double density_factor = 1) {
   dem::WorldParams wp;
   wp.dt = 1e-6;
   wp.threads = 1;
@@ -95,8 +96,8 @@ PlateCrush crush_between_plates(double r, const coupling::CrushingStrength& stre
   w.add_interaction(floor);
   w.add_interaction(ceiling);
   const double x[3] = {0, 0, r};
-  w.add_particle(x, r, 0);
   const double rho = w.materials().material(0).density;
+  w.add_particle(x, r, 0, density_factor * rho, nullptr, nullptr);
   auto crushed = [&] {
     return !coupling::crushed_particles(w.particles(), {floor.get(), ceiling.get()}, strength, rho).empty();
   };
@@ -118,6 +119,25 @@ TEST(MetaparticleCrushing, SphereBetweenPlatesBreaksAtItsStrength) {
   EXPECT_NEAR(c.closure, 2 * delta_c, 0.03 * 2 * delta_c);
   EXPECT_LE(c.force_before, Fc);
   EXPECT_GT(c.force_before, 0.98 * Fc);
+}
+
+// A sphere denser than rock stands for a larger lump (d_eq = 2 r (rho / rho_rock)^(1/3)) but breaks at the contact
+// stress of a rock sphere of its own size: F_c = pi (2 r)^2 sigma(d_eq) / 2.8. Six times denser without the size
+// effect: the same closure as the rock sphere, where F_c(d_eq) would take 6^(2/3) = 3.3x the force and 2.2x the
+// closure (0.44 of the radius at a 1 mm fragment's strength, the blow-up bound being 0.5). A lighter sphere keeps
+// F_c(d_eq).
+TEST(MetaparticleCrushing, DenseSphereBreaksAtTheStressOfItsOwnSize) {
+  const double r = 6e-3, sigma = 3.77e6, rho = dem::rock_table4().density;
+  const coupling::CrushingStrength plain(sigma), sized(sigma, 0.05, 0.54);
+  const double m_dense = 6 * rho * 4.0 / 3.0 * M_PI * r * r * r, d_dense = 2 * r * std::cbrt(6.0);
+  EXPECT_NEAR(plain.force_of_sphere(m_dense, r, rho), coupling::crushing_force(2 * r, sigma), 1e-9);
+  EXPECT_NEAR(sized.force_of_sphere(m_dense, r, rho), coupling::crushing_force(2 * r, sized.sigma(d_dense)), 1e-9);
+  EXPECT_NEAR(sized.force_of_sphere(m_dense / 6, r, rho), sized.force(2 * r), 1e-9 * sized.force(2 * r));
+  EXPECT_NEAR(sized.force_of_sphere(m_dense / 48, r, rho), sized.force(r), 1e-9 * sized.force(r));  // light: d_eq = r
+  const auto rock = crush_between_plates(r, plain), dense = crush_between_plates(r, plain, 6.0);
+  std::printf("closure at breakage: rock sphere %.4g m, 6x denser %.4g m\n", rock.closure, dense.closure);
+  EXPECT_NEAR(dense.closure, rock.closure, 0.03 * rock.closure);
+  EXPECT_NEAR(dense.force_before, rock.force_before, 0.03 * rock.force_before);
 }
 
 // Size effect: sigma(d) = sigma_t (d_ref / d)^k. At d_ref the strength is sigma_t; a 4x smaller lump is 4^k
@@ -351,6 +371,56 @@ TEST(MetaparticleCrushing, GrowingFragmentsKeepTheRocksVolume) {
   EXPECT_EQ(denser, grown.growing_fragments());
   EXPECT_LT(grown.growing_fragments(), 40u);
   EXPECT_GT(volume_ratio(grown), 0.99);
+  // Placement at birth: only growing fragments are born smaller (place_fragments).
+  std::printf("birth: deepest overlap %.2f (heavy) and %.2f (growing) of the smaller radius; born smaller: %ld, %ld\n",
+              heavy.deepest_birth_overlap(), grown.deepest_birth_overlap(), heavy.fragments_shrunk_at_birth(),
+              grown.fragments_shrunk_at_birth());
+  EXPECT_EQ(heavy.fragments_shrunk_at_birth(), 0);
+}
+
+// Fragment placement (closed forms): a liner plane pressing a sphere of radius r by 0.2 r. A tetrahedron with a
+// vertex towards it leaves that fragment 0.2 r deep, 0.445 of its 0.4495 r; turned with a face towards it, all four
+// are clear (the face's vertices sit 0.5505 r / 3 towards it). Kept in the vertex turn, the deep fragment is born
+// at h / (1 - 0.25) = 0.333 r, exactly 0.25 deep, and the others keep their radius.
+TEST(MetaparticleCrushing, FragmentsAreTurnedAndBornClearOfTheirNeighbours) {
+  const double r = 5e-3;
+  const Eigen::Vector3d x(0, 0, 0);
+  const coupling::Obstacle plane{Eigen::Vector3d(0, 0, -0.8 * r), Eigen::Vector3d(0, 0, 1), 0.0};
+  // rotations taking the tetrahedron's vertex (1, 1, 1) (and so the face opposite (-1, -1, -1)) to -z or +z
+  const Eigen::Vector3d v = Eigen::Vector3d(1, 1, 1).normalized();
+  const Eigen::Matrix3d vertex_down = Eigen::Quaterniond::FromTwoVectors(v, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d face_down = Eigen::Quaterniond::FromTwoVectors(v, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const double rf = coupling::fragment_radius(r);
+  const auto one = coupling::place_fragments(x, r, {vertex_down}, {plane}, false);
+  EXPECT_NEAR(one.deepest, 0.2 * r / rf, 1e-9);
+  for (double rb : one.birth_radius) EXPECT_DOUBLE_EQ(rb, rf);
+  const auto best = coupling::place_fragments(x, r, {vertex_down, face_down}, {plane}, true);
+  EXPECT_DOUBLE_EQ(best.deepest, 0.0);
+  for (int k = 0; k < 4; ++k) EXPECT_LT(coupling::overlap_ratio(x + best.set.offset[k], rf, plane), 0);
+  for (double rb : best.birth_radius) EXPECT_DOUBLE_EQ(rb, rf);
+  const auto shrunk = coupling::place_fragments(x, r, {vertex_down}, {plane}, true);
+  int smaller = 0;
+  for (int k = 0; k < 4; ++k) {
+    const double rb = shrunk.birth_radius[k];
+    if (rb < rf) {
+      ++smaller;
+      EXPECT_NEAR(rb, (0.8 - (1 - 1 / (1 + std::sqrt(1.5)))) * r / 0.75, 1e-12);
+      EXPECT_NEAR(coupling::overlap_ratio(x + shrunk.set.offset[k], rb, plane), coupling::kFragmentBirthOverlap, 1e-9);
+    } else {
+      EXPECT_DOUBLE_EQ(rb, rf);
+    }
+  }
+  EXPECT_EQ(smaller, 1);
+  // A sphere obstacle, larger and smaller than the fragment: born just at the bound, measured on the smaller radius.
+  for (double R : {2 * r, 0.3 * r}) {
+    const Eigen::Vector3d c = shrunk.set.offset[0] + Eigen::Vector3d(0, 0, rf + R - 0.4 * std::min(rf, R));
+    const coupling::Obstacle sphere{c, Eigen::Vector3d::Zero(), R};
+    const auto s = coupling::place_fragments(x, r, {vertex_down}, {sphere}, true);
+    EXPECT_NEAR(coupling::overlap_ratio(x + s.set.offset[0], s.birth_radius[0], sphere), coupling::kFragmentBirthOverlap,
+                1e-9) << "R = " << R;
+    EXPECT_LT(s.birth_radius[0], rf);
+  }
+  EXPECT_THROW(coupling::place_fragments(x, r, {}, {plane}, true), std::invalid_argument);
 }
 
 // The stress criterion's equivalent diametral load (closed forms): the diametral test's F; F (1 - K) under
