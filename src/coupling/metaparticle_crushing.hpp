@@ -26,7 +26,8 @@
 // rock's density (radius r / 4^(1/3) = 0.63 r) within that time: the crushed rock keeps its volume in the bed, as
 // the lumps it stands for would (Cleary & Sinnott grow the progeny of their particle replacement in the same way).
 // With 0 they stay 2.75x denser and take 36 % of the parent's volume. Experimental (README). Sizes (strength,
-// progeny, screening) are mass-equivalent:
+// progeny, screening) are mass-equivalent (a sphere denser than rock takes F_c over its own area:
+// CrushingStrength::force_of_sphere):
 //   d_eq = (6 m / (pi rho_rock))^(1/3),
 // with rho_rock the rock spheres' density (the material's, or heavier with feed.rock_density: chamber_params.hpp).
 // Size effect (size_exponent k > 0): small lumps hold fewer and smaller flaws and are stronger (Weibull),
