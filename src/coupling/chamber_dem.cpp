@@ -18,6 +18,15 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kRock = 0, kSteel = 1;  // dem::default_table4() indices
 constexpr int kFragmentOrientations = 8;  // tetrahedron turns tried per crushed sphere (place_fragments)
 
+// Key of the cell (edge `cell`) holding x, shifted by (dx, dy, dz) cells: the hash grids of prefill and
+// birth_obstacles (cells of twice the largest radius, so touching spheres lie in neighbouring cells).
+long long cell_key(const Eigen::Vector3d& x, double cell, int dx, int dy, int dz) {
+  const long long i = static_cast<long long>(std::floor(x.x() / cell)) + dx;
+  const long long j = static_cast<long long>(std::floor(x.y() / cell)) + dy;
+  const long long k = static_cast<long long>(std::floor(x.z() / cell)) + dz;
+  return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
+}
+
 // Profile points bottom to top (z is monotonic), as revolve_profile expects for outward normals.
 std::vector<dem::ProfilePoint> ascending(const core::Profile& p) {
   auto out = dem::profile_points(p);
@@ -292,12 +301,7 @@ void ChamberDem::prefill() {
     for (double r : rk.radii) rmax = std::max(rmax, r);
   // Hash grid over the spheres placed so far (the world holds nothing else at t = 0).
   const double cell = 2.0 * rmax;
-  auto key = [cell](const Eigen::Vector3d& x, int dx, int dy, int dz) {
-    const long long i = static_cast<long long>(std::floor(x.x() / cell)) + dx;
-    const long long j = static_cast<long long>(std::floor(x.y() / cell)) + dy;
-    const long long k = static_cast<long long>(std::floor(x.z() / cell)) + dz;
-    return (i * 73856093LL) ^ (j * 19349663LL) ^ (k * 83492791LL);
-  };
+  auto key = [cell](const Eigen::Vector3d& x, int dx, int dy, int dz) { return cell_key(x, cell, dx, dy, dz); };
   std::unordered_map<long long, std::vector<std::pair<Eigen::Vector3d, double>>> grid;
   auto clear = [&](const Eigen::Vector3d& x, double r) {
     const Eigen::Vector3d xc = cm.to_body(x), xm = mm.to_body(x);
@@ -503,26 +507,21 @@ std::vector<std::vector<Obstacle>> ChamberDem::birth_obstacles(const std::vector
   if (idx.empty()) return out;
   double r_max = 0;
   for (std::size_t j = 0; j < P.size(); ++j) r_max = std::max(r_max, P.r[j]);
-  // Crushed spheres hashed by cells of 2 r_max: a sphere touching one lies in its cell or a neighbouring one.
+  // Crushed spheres hashed by cells of 2 r_max (cell_key).
   const double cell = 2 * r_max;
-  auto key = [cell](double x, double y, double z, int a, int b, int c) {
-    const auto q = [cell](double v, int d) { return static_cast<int64_t>(std::floor(v / cell)) + d; };
-    return (q(x, a) * 73856093) ^ (q(y, b) * 19349663) ^ (q(z, c) * 83492791);
-  };
-  std::unordered_map<int64_t, std::vector<std::size_t>> grid;
-  for (std::size_t n = 0; n < idx.size(); ++n) grid[key(P.x[idx[n]], P.y[idx[n]], P.z[idx[n]], 0, 0, 0)].push_back(n);
+  auto at = [&P](std::size_t i) { return Eigen::Vector3d(P.x[i], P.y[i], P.z[i]); };
+  std::unordered_map<long long, std::vector<std::size_t>> grid;
+  for (std::size_t n = 0; n < idx.size(); ++n) grid[cell_key(at(idx[n]), cell, 0, 0, 0)].push_back(n);
   for (std::size_t j = 0; j < P.size(); ++j) {
     if (crushed[j]) continue;
+    const Eigen::Vector3d xj = at(j);
     for (int a = -1; a <= 1; ++a)
       for (int b = -1; b <= 1; ++b)
         for (int c = -1; c <= 1; ++c) {
-          const auto it = grid.find(key(P.x[j], P.y[j], P.z[j], a, b, c));
+          const auto it = grid.find(cell_key(xj, cell, a, b, c));
           if (it == grid.end()) continue;
-          for (std::size_t n : it->second) {
-            const std::size_t i = idx[n];
-            const Eigen::Vector3d d(P.x[j] - P.x[i], P.y[j] - P.y[i], P.z[j] - P.z[i]);
-            if (d.norm() < P.r[i] + P.r[j]) out[n].push_back({Eigen::Vector3d(P.x[j], P.y[j], P.z[j]), Eigen::Vector3d::Zero(), P.r[j]});
-          }
+          for (std::size_t n : it->second)
+            if ((xj - at(idx[n])).norm() < P.r[idx[n]] + P.r[j]) out[n].push_back({xj, Eigen::Vector3d::Zero(), P.r[j]});
         }
   }
   std::vector<long> slot(P.size(), -1);
