@@ -13,6 +13,11 @@
 
 namespace test_chamber {
 
+// Density of particle i's sphere (kg/m^3): its mass over its volume.
+inline double sphere_density(const dem::Particles& P, std::size_t i) {
+  return P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3));
+}
+
 inline coupling::ChamberParams small_chamber() {
   coupling::ChamberParams p;
   p.chamber.mantle.z = {-0.05, -0.20};

@@ -312,7 +312,7 @@ TEST(MetaparticleCrushing, FragmentsStayInTheBedUntilFinerThanTheLimit) {
   const double rho = frag.world().materials().material(0).density;
   long heavy = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
-    const double ratio = P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3) * rho);
+    const double ratio = test_chamber::sphere_density(P, i) / rho;
     const bool known = std::abs(ratio - 1) < 1e-9 || std::abs(ratio - std::pow(1 + std::sqrt(1.5), 3) / 4) < 1e-9;
     EXPECT_TRUE(known) << "particle " << i << " at " << ratio << " x the rock density";
     if (ratio > 1.5) {
@@ -364,7 +364,7 @@ TEST(MetaparticleCrushing, GrowingFragmentsKeepTheRocksVolume) {
   const auto& P = grown.world().particles();
   std::size_t denser = 0;
   for (std::size_t i = 0; i < P.size(); ++i) {
-    const double ratio = P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3) * rho);
+    const double ratio = test_chamber::sphere_density(P, i) / rho;
     EXPECT_GT(ratio, 1 - 1e-9);
     if (ratio > 1 + 1e-9) ++denser;
   }

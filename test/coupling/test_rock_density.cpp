@@ -8,13 +8,7 @@
 #include "coupling/chamber_dem.hpp"
 #include "small_chamber.hpp"
 
-namespace {
-
-double sphere_density(const dem::Particles& P, std::size_t i) {
-  return P.m[i] / (4.0 / 3.0 * M_PI * std::pow(P.r[i], 3));
-}
-
-}  // namespace
+using test_chamber::sphere_density;
 
 // Packed to solid fraction phi, a rock of Table 4 spheres (2600 kg/m^3) weighs phi 2600 V; with rock_density
 // 2600 the same spheres weigh 2600 / phi each and the rock 2600 V. The DEM step stays that of 2600 kg/m^3.
