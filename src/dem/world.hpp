@@ -124,9 +124,9 @@ class World {
   std::size_t n_contacts() const;  // touching particle pairs at the last step
   // Per particle, the sum over its particle contacts and intact bonds of sym(a (x) f) (a: centre to contact point,
   // taken at the sphere's radius, so that a diametral load F gives -2 r F n n; f: force on the particle), 6 entries
-  // xx yy zz xy yz zx per particle (N m); / volume it is the particle's mean stress (Love-Weber). Contacts at the last step's positions with their elastic force (Eq. 16-19 without
-  // damping: the spring state as it stands), bonds with their spring forces. Walls and interactions are not in it
-  // (contact_stress.cpp).
+  // xx yy zz xy yz zx per particle (N m); / volume it is the particle's mean stress (Love-Weber). Contacts at the
+  // last step's positions with their elastic force (Eq. 16-19 without damping: the spring state as it stands),
+  // bonds with their spring forces. Walls and interactions are not in it (contact_stress.cpp).
   void contact_stress(std::vector<double>& s) const;
   std::size_t n_pairs() const { return npairs_; }  // neighbour-list pairs
   long n_rebuilds() const { return nrebuild_; }
