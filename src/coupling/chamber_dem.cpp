@@ -457,32 +457,43 @@ void ChamberDem::crush_squeezed(bool flush) {
   std::vector<Fragment> born;
   double mass = 0;
   const bool grow = p_.crushing.fragment_growth_s > 0;
-  const auto obstacles = p_.crushing.fragments ? birth_obstacles(idx, remove) : std::vector<std::vector<Obstacle>>();
-  std::vector<Eigen::Matrix3d> turns(kFragmentOrientations);
+  // Which spheres break into fragments, with their tetrahedron turns drawn in batch order; then all are placed.
+  std::vector<CrushedSphere> batch(idx.size());
+  std::vector<double> r_end(idx.size()), rho_f(idx.size());
   for (std::size_t n = 0; n < idx.size(); ++n) {
     const std::size_t i = idx[n];
-    const double d = equivalent_diameter(P.m[i], rock_density_);
+    batch[n].x = Eigen::Vector3d(P.x[i], P.y[i], P.z[i]);
+    batch[n].r = P.r[i];
     const double r_f = fragment_radius(P.r[i]);
-    const double rho_f = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
-    const double d_f = d / std::cbrt(4.0);                     // a fragment's mass-equivalent size
-    const double r_end = grow ? std::max(r_f, 0.5 * d_f) : r_f;  // at the rock's density when grown
+    rho_f[n] = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
+    const double d_f = equivalent_diameter(P.m[i], rock_density_) / std::cbrt(4.0);  // a fragment's mass-equivalent size
+    r_end[n] = grow ? std::max(r_f, 0.5 * d_f) : r_f;  // at the rock's density when grown
     // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger; a
     // growing one ends at the rock's density.
-    const double stable_r = grow ? r_end : r_f * std::sqrt(rho_f / rock_density_);
+    const double stable_r = grow ? r_end[n] : r_f * std::sqrt(rho_f[n] / rock_density_);
     if (p_.crushing.fragments && d_f >= p_.crushing.min_fragment_m && stable_r >= fragment_min_radius_) {
+      batch[n].turns.resize(kFragmentOrientations);
+      for (auto& t : batch[n].turns) t = random_orientation().toRotationMatrix();
+    }
+  }
+  if (p_.crushing.fragments) birth_obstacles(idx, remove, batch);
+  const auto placed_all = place_crushed_batch(batch, grow);
+  for (std::size_t n = 0; n < idx.size(); ++n) {
+    const std::size_t i = idx[n];
+    if (!batch[n].turns.empty()) {
       const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
-      for (auto& t : turns) t = random_orientation().toRotationMatrix();
-      const auto placed = place_fragments(x, P.r[i], turns, obstacles[n], grow);
+      const auto& placed = placed_all[n];
       deepest_birth_overlap_ = std::max(deepest_birth_overlap_, placed.deepest);
       for (int k = 0; k < 4; ++k) {
         const Eigen::Vector3d& o = placed.set.offset[k];
         const double rb = placed.birth_radius[k];
         if (rb < placed.set.radius) ++shrunk_at_birth_;
-        born.push_back({x + o, v + w.cross(o), w, rb, rho_f * std::pow(placed.set.radius / rb, 3), r_end});
+        born.push_back({x + o, v + w.cross(o), w, rb, rho_f[n] * std::pow(placed.set.radius / rb, 3), r_end[n]});
       }
       ++fragmented_count_;
       continue;
     }
+    const double d = equivalent_diameter(P.m[i], rock_density_);
     const auto cls = progeny_by_class(P.m[i], d, p_.sieves_m, p_.crushing.progeny_exponent);
     for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
     mass += P.m[i];
@@ -500,38 +511,40 @@ void ChamberDem::crush_squeezed(bool flush) {
   }
 }
 
-std::vector<std::vector<Obstacle>> ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx,
-                                                               const std::vector<char>& crushed) const {
+void ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx, const std::vector<char>& crushed,
+                                 std::vector<CrushedSphere>& batch) const {
   const auto& P = world_->particles();
-  std::vector<std::vector<Obstacle>> out(idx.size());
-  if (idx.empty()) return out;
+  if (idx.empty()) return;
   double r_max = 0;
   for (std::size_t j = 0; j < P.size(); ++j) r_max = std::max(r_max, P.r[j]);
+  std::vector<long> slot(P.size(), -1);
+  for (std::size_t n = 0; n < idx.size(); ++n) slot[idx[n]] = static_cast<long>(n);
   // Crushed spheres hashed by cells of 2 r_max (cell_key).
   const double cell = 2 * r_max;
   auto at = [&P](std::size_t i) { return Eigen::Vector3d(P.x[i], P.y[i], P.z[i]); };
   std::unordered_map<long long, std::vector<std::size_t>> grid;
   for (std::size_t n = 0; n < idx.size(); ++n) grid[cell_key(at(idx[n]), cell, 0, 0, 0)].push_back(n);
   for (std::size_t j = 0; j < P.size(); ++j) {
-    if (crushed[j]) continue;
     const Eigen::Vector3d xj = at(j);
     for (int a = -1; a <= 1; ++a)
       for (int b = -1; b <= 1; ++b)
         for (int c = -1; c <= 1; ++c) {
           const auto it = grid.find(cell_key(xj, cell, a, b, c));
           if (it == grid.end()) continue;
-          for (std::size_t n : it->second)
-            if ((xj - at(idx[n])).norm() < P.r[idx[n]] + P.r[j]) out[n].push_back({xj, Eigen::Vector3d::Zero(), P.r[j]});
+          for (std::size_t n : it->second) {
+            if (idx[n] == j || (xj - at(idx[n])).norm() >= P.r[idx[n]] + P.r[j]) continue;
+            if (crushed[j])
+              batch[n].crushed_neighbours.push_back(static_cast<std::size_t>(slot[j]));
+            else
+              batch[n].obstacles.push_back({xj, Eigen::Vector3d::Zero(), P.r[j]});
+          }
         }
   }
-  std::vector<long> slot(P.size(), -1);
-  for (std::size_t n = 0; n < idx.size(); ++n) slot[idx[n]] = static_cast<long>(n);
   for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
     for (const auto& c : mc->contacts()) {
       const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0) out[slot[i]].push_back({c.point, c.normal, 0.0});
+      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0) batch[slot[i]].obstacles.push_back({c.point, c.normal, 0.0});
     }
-  return out;
 }
 
 // Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.

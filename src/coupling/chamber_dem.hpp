@@ -111,10 +111,11 @@ class ChamberDem {
   void discharge();
   void crush_squeezed(bool flush);
   void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
-  // Per crushed sphere (indices idx), what its fragments may touch at birth: the spheres it overlaps (not those
-  // crushed with it) and the liners it presses (their tangent planes).
-  std::vector<std::vector<Obstacle>> birth_obstacles(const std::vector<std::size_t>& idx,
-                                                     const std::vector<char>& crushed) const;
+  // Per crushed sphere (indices idx, batch[n] for idx[n]), what its fragments may touch at birth: the spheres it
+  // overlaps and the liners it presses (their tangent planes) as obstacles, the overlapping spheres crushed with it
+  // (`crushed`) as crushed_neighbours.
+  void birth_obstacles(const std::vector<std::size_t>& idx, const std::vector<char>& crushed,
+                       std::vector<CrushedSphere>& batch) const;
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
   // hopper (allowing for their flat facets) and outside the mantle and its cap.

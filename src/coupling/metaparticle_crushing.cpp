@@ -80,6 +80,20 @@ PlacedFragments place_fragments(const Eigen::Vector3d& x, double r, const std::v
   return best;
 }
 
+std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& batch, bool shrink) {
+  std::vector<PlacedFragments> out(batch.size());
+  for (std::size_t n = 0; n < batch.size(); ++n) {
+    if (batch[n].turns.empty()) continue;
+    out[n] = place_fragments(batch[n].x, batch[n].r, batch[n].turns, batch[n].obstacles, shrink);
+    for (std::size_t m : batch[n].crushed_neighbours) {
+      if (m <= n || m >= batch.size()) continue;  // an earlier one's fragments are already among n's obstacles
+      for (int k = 0; k < 4; ++k)
+        batch[m].obstacles.push_back({batch[n].x + out[n].set.offset[k], Eigen::Vector3d::Zero(), out[n].birth_radius[k]});
+    }
+  }
+  return out;
+}
+
 namespace {
 // A mesh contact record of the last step whose particle is still at its index (removals make records stale).
 bool current(const dem::Particles& P, const dem::MeshContactRecord& c) {

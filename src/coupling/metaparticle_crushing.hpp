@@ -121,6 +121,22 @@ struct PlacedFragments {
 PlacedFragments place_fragments(const Eigen::Vector3d& x, double r, const std::vector<Eigen::Matrix3d>& orientations,
                                 const std::vector<Obstacle>& obstacles, bool shrink);
 
+// One sphere of a batch crushed together (ChamberDem::crush_squeezed): `turns` are the orientations to try (none: it
+// leaves as fines), `obstacles` what it touches outside the batch, `crushed_neighbours` the batch indices of the
+// spheres crushed with it that it overlaps.
+struct CrushedSphere {
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  double r = 0;
+  std::vector<Eigen::Matrix3d> turns;
+  std::vector<Obstacle> obstacles;
+  std::vector<std::size_t> crushed_neighbours;
+};
+// Places the batch's fragments in batch order (place_fragments). Two overlapping spheres crushed together leave
+// fragments that may overlap each other as deeply as those of one sphere and its neighbour, so each sphere's
+// obstacles gain the fragments, at their birth radii, already placed for its crushed neighbours. Entry n of the
+// result is empty-handed (birth radii 0) where batch[n] has no turns.
+std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& batch, bool shrink);
+
 // F_c of a sphere of diameter d (N), size-independent strength.
 double crushing_force(double d, double tensile_strength);
 

@@ -423,6 +423,62 @@ TEST(MetaparticleCrushing, FragmentsAreTurnedAndBornClearOfTheirNeighbours) {
   EXPECT_THROW(coupling::place_fragments(x, r, {}, {plane}, true), std::invalid_argument);
 }
 
+// Two spheres of radius r, 0.2 r into each other, crushed in one batch (closed forms). The first can only turn a
+// vertex towards the second: that fragment reaches the first's surface, 0.2 r into the second sphere. Turned the
+// same way, the second's vertex fragment would be 0.2 r into it, 0.445 of the fragments' radius; with a face towards
+// the first, its fragments are clear (centres 1.186 r from it, radii 0.899 r together). The second sees the first's
+// fragments only through its crushed neighbour: without it, its first turn is as good as any.
+TEST(MetaparticleCrushing, FragmentsOfNeighboursCrushedTogetherAreClearOfEachOther) {
+  const double r = 5e-3, rf = coupling::fragment_radius(r);
+  const Eigen::Vector3d v = Eigen::Vector3d(1, 1, 1).normalized();
+  const Eigen::Matrix3d vertex_up = Eigen::Quaterniond::FromTwoVectors(v, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d vertex_down = Eigen::Quaterniond::FromTwoVectors(v, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d face_down = vertex_up;  // the face opposite the vertex (1, 1, 1) then points down
+  auto batch_of = [&](std::vector<Eigen::Matrix3d> second_turns, bool neighbours) {
+    std::vector<coupling::CrushedSphere> b(2);
+    b[0].x = Eigen::Vector3d::Zero();
+    b[1].x = Eigen::Vector3d(0, 0, 1.8 * r);
+    b[0].r = b[1].r = r;
+    b[0].turns = {vertex_up};
+    b[1].turns = std::move(second_turns);
+    if (neighbours) b[0].crushed_neighbours = {1}, b[1].crushed_neighbours = {0};
+    return b;
+  };
+  // deepest overlap ratio between the two sets of fragments, at their birth radii
+  auto deepest_between = [&](const std::vector<coupling::CrushedSphere>& b,
+                             const std::vector<coupling::PlacedFragments>& p) {
+    double worst = -1e300;
+    for (int k = 0; k < 4; ++k)
+      for (int l = 0; l < 4; ++l) {
+        const coupling::Obstacle o{b[0].x + p[0].set.offset[k], Eigen::Vector3d::Zero(), p[0].birth_radius[k]};
+        worst = std::max(worst, coupling::overlap_ratio(b[1].x + p[1].set.offset[l], p[1].birth_radius[l], o));
+      }
+    return worst;
+  };
+  auto blind = batch_of({vertex_down, face_down}, false);
+  const auto p_blind = coupling::place_crushed_batch(blind, true);
+  EXPECT_NEAR(deepest_between(blind, p_blind), 0.2 * r / rf, 1e-9);
+  auto seen = batch_of({vertex_down, face_down}, true);
+  const auto p_seen = coupling::place_crushed_batch(seen, true);
+  EXPECT_EQ(seen[1].obstacles.size(), 4u);  // the first's four fragments
+  EXPECT_TRUE(seen[0].obstacles.empty());   // placed first, before the second's
+  EXPECT_DOUBLE_EQ(p_seen[1].deepest, 0.0);
+  const double a = r - rf;  // a fragment centre's distance from its parent's
+  EXPECT_NEAR(deepest_between(seen, p_seen), (2 * rf - std::hypot(1.8 * r - a - a / 3, a * std::sqrt(8.0) / 3)) / rf, 1e-9);
+  // Only the vertex turn offered: the second's deep fragment is born smaller, exactly at the bound.
+  auto forced = batch_of({vertex_down}, true);
+  const auto p_forced = coupling::place_crushed_batch(forced, true);
+  EXPECT_NEAR(p_forced[1].deepest, 0.2 * r / rf, 1e-9);
+  EXPECT_NEAR(deepest_between(forced, p_forced), coupling::kFragmentBirthOverlap, 1e-9);
+  // A sphere that leaves as fines (no turns) is not placed and is no obstacle.
+  auto fines = batch_of({vertex_down}, true);
+  fines[0].turns.clear();
+  const auto p_fines = coupling::place_crushed_batch(fines, true);
+  EXPECT_TRUE(fines[1].obstacles.empty());
+  EXPECT_DOUBLE_EQ(p_fines[0].birth_radius[0], 0.0);
+  EXPECT_DOUBLE_EQ(p_fines[1].birth_radius[0], rf);
+}
+
 // The stress criterion's equivalent diametral load (closed forms): the diametral test's F; F (1 - K) under
 // uniaxial load F with lateral contact loads K F (K <= 0.4), F (1 + 2K) / 3 above; F under equal loads F from all
 // six sides (the pressure term).
