@@ -444,6 +444,8 @@ void Mechanism::set_particle_wrench(BodyId id, const Eigen::Vector3d& force, con
 
 void Mechanism::set_load_model(LoadModel load) { impl_->load = load; }
 
+EnergyAudit Mechanism::flows() const { return impl_->audit; }
+
 EnergyAudit Mechanism::energy() const {
   EnergyAudit a = impl_->audit;
   double stored = 0;

@@ -111,6 +111,9 @@ class Mechanism {
   void set_load_model(LoadModel load);
 
   EnergyAudit energy() const;  // cumulative works + current energy
+  // The cumulative works and dissipations alone (current energies left 0; a hysteretic bed's last-step share not
+  // booked), without the contact search energy() runs, so calling it leaves every later step bit for bit the same.
+  EnergyAudit flows() const;
 
   // Checkpoint / restart (core/binary_io.hpp; mechanism_checkpoint.cpp). save_state writes the complete
   // evolving state, nothing that the parameters determine: every body's position, quaternion, rotation

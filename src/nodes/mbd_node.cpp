@@ -27,6 +27,7 @@
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism.hpp"
+#include "mbd/power_partition.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "nodes/ros_common.hpp"
 
@@ -109,6 +110,8 @@ class MbdNode {
   int run() {
     const double t0 = nodes::wall_now();
     wall_start_ = t0;
+    const auto flows0 = mech_->flows();
+    const double sim0 = mech_->time();
     int status = 0;
     try {
       loop();
@@ -128,6 +131,9 @@ class MbdNode {
       }
     }
     wall_s_ = nodes::wall_now() - t0;
+    if (mech_->time() > sim0)
+      ROS_INFO("mbd_node: power, t = %.3f-%.3f s: %s", sim0, mech_->time(),
+               mbd::describe(mbd::power_partition(flows0, sim0, mech_->flows(), mech_->time())).c_str());
     finish();
     return status;
   }
