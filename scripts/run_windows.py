@@ -7,7 +7,10 @@ Windows are whole drive cycles (the power swings within a cycle). Per window: te
 peak-to-peak per drive cycle, averaged over the window's cycles, as summary.json), mean drive power, throughput
 (discharged mass over the window / its length), specific energy (power / throughput), and the mass in the chamber
 at the window's end. summary.json gives one mean over all the run after run.settle_s, which hides a chamber
-still filling up from a pre-filled start (that takes seconds of simulated time).
+still filling up from a pre-filled start (that takes seconds of simulated time). In a coupled run also: the power
+the liners put into the rock (minus the work of the DEM's wrenches on the mantle and the concave, each step's
+wrench with the mean of the liner's twists at the step's start and end; the drive's power less this is what the
+mechanism itself dissipates, mostly in the absorbers) and the mean force of the rock on the mantle.
 """
 import argparse
 import bisect
@@ -25,10 +28,18 @@ def main():
     if a.cycles < 1:
         sys.exit(f"run_windows: --cycles must be a whole number >= 1 (got {a.cycles})")
     tx, x, tp, p, speeds, prod = [], [], [], [], [], []
+    states, wrenches = {}, {}  # coupling step -> (time, twists) / (mantle force, wrench . twist per unit twist)
     with open_bag(a.bag, "run_windows") as b:
-        for topic, m, _ in b.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/product"]):
+        topics = ["/crusher/test_point", "/crusher/drive", "/crusher/product", "/crusher/geometry_state",
+                  "/crusher/geometry_wrench"]
+        for topic, m, _ in b.read_messages(topics=topics):
             t = m.header.stamp.to_sec()
-            if topic == "/crusher/test_point":
+            if topic == "/crusher/geometry_state":
+                states[m.step] = (m.time, [twist(m.mantle_twist), twist(m.concave_twist)])
+            elif topic == "/crusher/geometry_wrench":
+                if not m.stopped:
+                    wrenches[m.step] = [wrench(m.mantle), wrench(m.concave)]
+            elif topic == "/crusher/test_point":
                 tx.append(t)
                 x.append(m.displacement.x * 1e3)
             elif topic == "/crusher/drive":
@@ -47,7 +58,10 @@ def main():
     t_end = max(tp[-1], tx[-1] if tx else 0)
     print(f"{a.bag}: {t_end:.2f} s, drive {speed * 60 / (2 * math.pi):.0f} rpm, "
           f"windows of {a.cycles} cycles ({window:.3f} s)")
-    print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}")
+    rock = rock_power(states, wrenches)  # [(t, power into the rock W, |mantle force| N)]
+    trock = [r[0] for r in rock]
+    print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}"
+          + (f" {'rock kW':>8} {'mantle kN':>9}" if rock else ""))
     w0 = 0.0
     while w0 < t_end - 1e-9:
         w1 = w0 + window
@@ -71,8 +85,40 @@ def main():
             if t1 > t0:
                 tph = (m1 - m0) / (t1 - t0) * 3.6
                 se = pm / tph if tph > 0 else float("nan")
-        print(f"{w0:6.2f} {w1:6.2f} {amp} {pm:9.1f} {tph:7.1f} {se:7.2f} {chamber:11.1f}")
+        extra = ""
+        if rock:
+            rw = rock[bisect.bisect_left(trock, w0 - 1e-9):bisect.bisect_left(trock, w1 - 1e-9)]
+            if rw:
+                extra = (f" {sum(r[1] for r in rw) / len(rw) * 1e-3:8.1f}"
+                         f" {sum(r[2] for r in rw) / len(rw) * 1e-3:9.2f}")
+            else:
+                extra = f" {'n/a':>8} {'n/a':>9}"
+        print(f"{w0:6.2f} {w1:6.2f} {amp} {pm:9.1f} {tph:7.1f} {se:7.2f} {chamber:11.1f}{extra}")
         w0 = w1
+
+
+def twist(t):
+    return [t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z]
+
+
+def wrench(w):
+    return [w.force.x, w.force.y, w.force.z, w.torque.x, w.torque.y, w.torque.z]
+
+
+def rock_power(states, wrenches):
+    """Per coupling step with a wrench and the states at its start and end: (start time, power the liners put into
+    the rock in W, |force on the mantle| in N). The wrench (of the rock on each body, about its centre of mass) is
+    the step's mean; the twist is taken as the mean of the step's two ends."""
+    out = []
+    for k in sorted(wrenches):
+        if k not in states or k + 1 not in states:
+            continue
+        t, v0 = states[k]
+        _, v1 = states[k + 1]
+        work_rate = sum(wi * 0.5 * (a + b) for body in range(2)
+                        for wi, a, b in zip(wrenches[k][body], v0[body], v1[body]))
+        out.append((t, -work_rate, math.sqrt(sum(f * f for f in wrenches[k][0][:3]))))
+    return out
 
 
 if __name__ == "__main__":

@@ -35,10 +35,11 @@ rosrun inertia_crusher merge_bags "$out/run/run.bag" "$out/run/dem.bag" ||
   { echo "FAIL: merge_bags failed"; exit 1; }
 /usr/bin/python3 "$src/test/ros/check_coupled_run.py" "$out/run"
 # scripts/run_windows.py reads the same bag its own way: its last window (the 2 drive cycles after the 0.3 s
-# settle) must give summary.json's amplitude and power.
+# settle) must give summary.json's amplitude and power, and over both windows (the whole 0.6 s) the power into the
+# rock must be what mbd_node's energy audit booked as its load (from the wrenches it applied, step by step).
 /usr/bin/python3 "$src/scripts/run_windows.py" "$out/run/run.bag" --cycles 2 | tee "$out/windows.txt"
-/usr/bin/python3 - "$out/windows.txt" "$out/run/summary.json" <<'PY' || exit 1
-import json, sys
+/usr/bin/python3 - "$out/windows.txt" "$out/run/summary.json" "$out/mbd.log" <<'PY' || exit 1
+import json, re, sys
 rows = [l.split() for l in open(sys.argv[1]) if l.strip() and l.split()[0].replace(".", "").isdigit()]
 s = json.load(open(sys.argv[2]))
 amp, power = float(rows[-1][2]), float(rows[-1][3])
@@ -46,6 +47,16 @@ a_ref, p_ref = s["amplitude_x_mm"]["mean"], s["power_kW"]["mean"]
 print(f"run_windows last window: amplitude {amp} mm, power {power} kW; summary.json: {a_ref:.2f} mm, {p_ref:.2f} kW")
 if len(rows) != 2 or abs(amp - a_ref) > 0.01 * a_ref or abs(power - p_ref) > 0.05 * abs(p_ref) + 0.2:
     sys.exit("FAIL: run_windows.py disagrees with summary.json (or not 2 windows of 2 cycles in 0.6 s)")
+audit = re.search(r"power, t = 0\.000-0\.60\d s: drive ([-\d.]+) kW = load ([-\d.]+) \+ absorbers ([-\d.]+)",
+                  open(sys.argv[3]).read())
+if not audit:
+    sys.exit("FAIL: mbd_node did not log its power partition over the run")
+drive, load, absorbers = map(float, audit.groups())
+rock = sum(float(r[7]) for r in rows) / len(rows)
+print(f"power into the rock: {rock:.2f} kW from the bag's wrenches and twists, {load:.2f} kW in mbd_node's audit "
+      f"(drive {drive:.2f} kW, absorbers {absorbers:.2f} kW)")
+if not load > 0.5 or abs(rock - load) > 0.05 * load + 0.1:
+    sys.exit("FAIL: the rock's power from the bag disagrees with mbd_node's energy audit (or the rock takes none)")
 PY
 # A file that is not a bag: one line naming it, non-zero exit.
 msg=$(/usr/bin/python3 "$src/scripts/run_windows.py" "$out/case.yaml" 2>&1) && { echo "FAIL: run_windows.py read a YAML file as a bag"; exit 1; }
