@@ -1,5 +1,9 @@
 #include "core/run_config.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
 namespace core {
 
 RunOptions load_run_options(const ConfigNode& run) {
@@ -34,6 +38,20 @@ CouplingOptions load_coupling_options(const ConfigNode& c) {
   o.timeout_s = c.number_or("timeout_s", o.timeout_s, 0.1, 3600, "s");
   o.first_timeout_s = c.number_or("first_timeout_s", o.first_timeout_s, 0.1, 7200, "s");
   return o;
+}
+
+long coupling_steps(double coupling_dt_s, double mech_dt_s) {
+  const double ratio = coupling_dt_s / mech_dt_s;
+  const long n = std::max(1L, std::lround(ratio));
+  if (std::abs(ratio - n) > 1e-6 * n) {
+    const long lo = std::max(1L, static_cast<long>(std::floor(ratio)));
+    std::ostringstream s;
+    s << "coupling.dt_s = " << coupling_dt_s << " s is " << ratio << " steps of mbd.time_step_s = " << mech_dt_s
+      << " s; accepted: a whole number of steps, e.g. " << lo * mech_dt_s << " or " << (lo + 1) * mech_dt_s
+      << " s (or a time step that divides the interval)";
+    throw ConfigError(s.str());
+  }
+  return n;
 }
 
 }  // namespace core

@@ -29,5 +29,8 @@ RunOptions load_run_options(const ConfigNode& run);            // the `run:` map
 // After any override of `load`: a dem run takes run.coupled's warm_start_s and settle_s where given.
 void apply_coupled_overrides(RunOptions& o);
 CouplingOptions load_coupling_options(const ConfigNode& coupling);  // the `coupling:` mapping (may be empty)
+// Mechanism steps per coupling interval: coupling.dt_s must be a whole number (>= 1) of mbd.time_step_s, to 1e-6;
+// else throws ConfigError naming both keys, the ratio and the nearest accepted intervals.
+long coupling_steps(double coupling_dt_s, double mech_dt_s);
 
 }  // namespace core

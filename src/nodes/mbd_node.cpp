@@ -61,6 +61,7 @@ Config load_config(const std::string& path, const std::string& load_override, do
   if (duration_override > 0) c.run.duration_s = duration_override;
   core::apply_coupled_overrides(c.run);
   mbd::validate(c.mech);
+  if (c.run.load == "dem") core::coupling_steps(c.coupling.dt_s, c.mech.dt_s);  // throws if not whole steps
   return c;
 }
 
@@ -144,7 +145,7 @@ class MbdNode {
     const double t_end = cfg_.run.duration_s;
     const double pub_dt = 1.0 / cfg_.run.publish_hz, tf_dt = 1.0 / cfg_.run.tf_hz;
     const bool coupled = cfg_.run.load == "dem";
-    const long steps_per_coupling = coupled ? std::max(1L, std::lround(cfg_.coupling.dt_s / dt)) : 1;
+    const long steps_per_coupling = coupled ? core::coupling_steps(cfg_.coupling.dt_s, dt) : 1;
     // Samples at t = k / publish_hz, k >= 1 (a bag cannot hold time 0, and sim time 0 means 'no clock yet').
     if (next_pub_ == 0) next_pub_ = pub_dt, next_tf_ = tf_dt;  // a resumed run has them from its checkpoint
     double next_progress = 0;

@@ -143,3 +143,23 @@ TEST(RunConfig, CoupledOverridesApplyToDemRunsOnly) {
   auto msg = message_of([&] { core::load_run_options(bad.child("run")); });
   EXPECT_NE(msg.find("run.coupled.settle_s"), std::string::npos) << msg;
 }
+
+// The mechanism advances whole steps between exchanges: an interval of 1.5 steps was rounded to 2 without a word
+// (the 600 rpm config exchanged every 1.33 ms instead of its 1 ms, and checkpointed every 26.7 ms instead of 20).
+TEST(RunConfig, CouplingIntervalIsAWholeNumberOfMechanismSteps) {
+  EXPECT_EQ(core::coupling_steps(1e-3, 1e-3), 1);
+  EXPECT_EQ(core::coupling_steps(1e-3, 5e-4), 2);
+  EXPECT_EQ(core::coupling_steps(1e-3, 1e-3 / 3), 3);
+  auto msg = message_of([&] { core::coupling_steps(1e-3, 6.67e-4); });
+  EXPECT_NE(msg.find("coupling.dt_s"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("mbd.time_step_s"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("1.49"), std::string::npos) << msg;
+  EXPECT_THROW(core::coupling_steps(4e-4, 1e-3), ConfigError);  // shorter than one step
+  for (const char* name : {"quick_demo.yaml", "gyp1200_400rpm.yaml", "gyp1200_600rpm.yaml"}) {
+    auto root = ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + name);
+    const double coupling_dt = root.child("coupling").number("dt_s", 1e-5, 0.05);
+    const double mech_dt = root.child("mbd").number("time_step_s", 1e-6, 5e-3);
+    EXPECT_NO_THROW(core::coupling_steps(coupling_dt, mech_dt)) << name;
+    EXPECT_DOUBLE_EQ(coupling_dt, 1e-3) << name << ": the paper's 1000 Hz exchange (Table 4)";
+  }
+}
