@@ -466,7 +466,7 @@ void ChamberDem::crush_squeezed(bool flush) {
     batch[n].r = P.r[i];
     const double r_f = fragment_radius(P.r[i]);
     rho_f[n] = 0.25 * P.m[i] / (4.0 / 3.0 * kPi * r_f * r_f * r_f);
-    const double d_f = equivalent_diameter(P.m[i], rock_density_) / std::cbrt(4.0);  // a fragment's mass-equivalent size
+    const double d_f = equivalent_diameter(P.m[i], rock_density_) / std::cbrt(4.0);  // a fragment's mass-equiv. size
     r_end[n] = grow ? std::max(r_f, 0.5 * d_f) : r_f;  // at the rock's density when grown
     // The Rayleigh step grows with r sqrt(rho): a heavy fragment is as stable as a rock sphere that much larger; a
     // growing one ends at the rock's density.
@@ -543,7 +543,8 @@ void ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx, const std:
   for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
     for (const auto& c : mc->contacts()) {
       const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0) batch[slot[i]].obstacles.push_back({c.point, c.normal, 0.0});
+      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0)
+        batch[slot[i]].obstacles.push_back({c.point, c.normal, 0.0});
     }
 }
 

@@ -87,8 +87,10 @@ std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& bat
     out[n] = place_fragments(batch[n].x, batch[n].r, batch[n].turns, batch[n].obstacles, shrink);
     for (std::size_t m : batch[n].crushed_neighbours) {
       if (m <= n || m >= batch.size()) continue;  // an earlier one's fragments are already among n's obstacles
-      for (int k = 0; k < 4; ++k)
-        batch[m].obstacles.push_back({batch[n].x + out[n].set.offset[k], Eigen::Vector3d::Zero(), out[n].birth_radius[k]});
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector3d c = batch[n].x + out[n].set.offset[k];
+        batch[m].obstacles.push_back({c, Eigen::Vector3d::Zero(), out[n].birth_radius[k]});
+      }
     }
   }
   return out;

@@ -134,7 +134,7 @@ struct CrushedSphere {
 // Places the batch's fragments in batch order (place_fragments). Two overlapping spheres crushed together leave
 // fragments that may overlap each other as deeply as those of one sphere and its neighbour, so each sphere's
 // obstacles gain the fragments, at their birth radii, already placed for its crushed neighbours. Entry n of the
-// result is empty-handed (birth radii 0) where batch[n] has no turns.
+// result is left default (birth radii 0) where batch[n] has no turns.
 std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& batch, bool shrink);
 
 // F_c of a sphere of diameter d (N), size-independent strength.

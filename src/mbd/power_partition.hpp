@@ -11,7 +11,7 @@ namespace mbd {
 struct PowerPartition {
   double span_s = 0;
   double drive = 0;             // into the drive shaft by the motor
-  double load = 0;              // into the load through set_particle_wrench (the DEM rock): minus its work on the bodies
+  double load = 0;              // into the load (the DEM rock) by set_particle_wrench: minus its work on the bodies
   double absorbers = 0;         // rubber absorbers' dampers (frame vibration)
   double cone_contact = 0;      // mantle-concave contact, Eq. 11 and 13-15
   double bed = 0;               // equivalent material bed (bed runs)

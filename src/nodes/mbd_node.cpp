@@ -27,8 +27,8 @@
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism.hpp"
-#include "mbd/power_partition.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "mbd/power_partition.hpp"
 #include "nodes/ros_common.hpp"
 
 namespace {

@@ -431,8 +431,9 @@ TEST(MetaparticleCrushing, FragmentsAreTurnedAndBornClearOfTheirNeighbours) {
 TEST(MetaparticleCrushing, FragmentsOfNeighboursCrushedTogetherAreClearOfEachOther) {
   const double r = 5e-3, rf = coupling::fragment_radius(r);
   const Eigen::Vector3d v = Eigen::Vector3d(1, 1, 1).normalized();
-  const Eigen::Matrix3d vertex_up = Eigen::Quaterniond::FromTwoVectors(v, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  const Eigen::Matrix3d vertex_down = Eigen::Quaterniond::FromTwoVectors(v, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  using Q = Eigen::Quaterniond;
+  const Eigen::Matrix3d vertex_up = Q::FromTwoVectors(v, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d vertex_down = Q::FromTwoVectors(v, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Matrix3d face_down = vertex_up;  // the face opposite the vertex (1, 1, 1) then points down
   auto batch_of = [&](std::vector<Eigen::Matrix3d> second_turns, bool neighbours) {
     std::vector<coupling::CrushedSphere> b(2);
@@ -464,7 +465,8 @@ TEST(MetaparticleCrushing, FragmentsOfNeighboursCrushedTogetherAreClearOfEachOth
   EXPECT_TRUE(seen[0].obstacles.empty());   // placed first, before the second's
   EXPECT_DOUBLE_EQ(p_seen[1].deepest, 0.0);
   const double a = r - rf;  // a fragment centre's distance from its parent's
-  EXPECT_NEAR(deepest_between(seen, p_seen), (2 * rf - std::hypot(1.8 * r - a - a / 3, a * std::sqrt(8.0) / 3)) / rf, 1e-9);
+  const double gap = std::hypot(1.8 * r - a - a / 3, a * std::sqrt(8.0) / 3);  // first's top to second's lower three
+  EXPECT_NEAR(deepest_between(seen, p_seen), (2 * rf - gap) / rf, 1e-9);
   // Only the vertex turn offered: the second's deep fragment is born smaller, exactly at the bound.
   auto forced = batch_of({vertex_down}, true);
   const auto p_forced = coupling::place_crushed_batch(forced, true);
