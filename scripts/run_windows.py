@@ -28,7 +28,7 @@ def main():
     if a.cycles < 1:
         sys.exit(f"run_windows: --cycles must be a whole number >= 1 (got {a.cycles})")
     tx, x, tp, p, speeds, prod = [], [], [], [], [], []
-    states, wrenches = {}, {}  # coupling step -> (time, twists) / (mantle force, wrench . twist per unit twist)
+    states, wrenches = {}, {}  # coupling step -> (start time, [mantle, concave twist]) / [mantle, concave wrench]
     with open_bag(a.bag, "run_windows") as b:
         topics = ["/crusher/test_point", "/crusher/drive", "/crusher/product", "/crusher/geometry_state",
                   "/crusher/geometry_wrench"]
