@@ -481,7 +481,8 @@ void ChamberDem::crush_squeezed(bool flush) {
   for (std::size_t n = 0; n < idx.size(); ++n) {
     const std::size_t i = idx[n];
     if (!batch[n].turns.empty()) {
-      const Eigen::Vector3d x(P.x[i], P.y[i], P.z[i]), v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
+      const Eigen::Vector3d& x = batch[n].x;
+      const Eigen::Vector3d v(P.vx[i], P.vy[i], P.vz[i]), w(P.wx[i], P.wy[i], P.wz[i]);
       const auto& placed = placed_all[n];
       deepest_birth_overlap_ = std::max(deepest_birth_overlap_, placed.deepest);
       for (int k = 0; k < 4; ++k) {
@@ -541,11 +542,9 @@ void ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx, const std:
         }
   }
   for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
-    for (const auto& c : mc->contacts()) {
-      const auto i = static_cast<std::size_t>(c.particle_index);
-      if (i < P.size() && P.id[i] == c.particle_id && slot[i] >= 0)
-        batch[slot[i]].obstacles.push_back({c.point, c.normal, 0.0});
-    }
+    for (const auto& c : mc->contacts())
+      if (contact_is_current(P, c) && slot[c.particle_index] >= 0)
+        batch[slot[c.particle_index]].obstacles.push_back({c.point, c.normal, 0.0});
 }
 
 // Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.

@@ -96,13 +96,10 @@ std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& bat
   return out;
 }
 
-namespace {
-// A mesh contact record of the last step whose particle is still at its index (removals make records stale).
-bool current(const dem::Particles& P, const dem::MeshContactRecord& c) {
+bool contact_is_current(const dem::Particles& P, const dem::MeshContactRecord& c) {
   const auto i = static_cast<std::size_t>(c.particle_index);
   return i < P.size() && P.id[i] == c.particle_id;
 }
-}  // namespace
 
 std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::vector<const dem::MeshContact*>& meshes,
                                            const CrushingStrength& strength, double rho) {
@@ -111,7 +108,7 @@ std::vector<std::size_t> crushed_particles(const dem::Particles& P, const std::v
   for (const auto* mc : meshes) {
     load.clear();
     for (const auto& c : mc->contacts()) {
-      if (current(P, c)) load.emplace_back(static_cast<std::size_t>(c.particle_index), c.normal_force);
+      if (contact_is_current(P, c)) load.emplace_back(static_cast<std::size_t>(c.particle_index), c.normal_force);
     }
     // A sphere pressed across an edge of the tessellation touches two facets: their forces add up.
     std::sort(load.begin(), load.end());
@@ -142,7 +139,7 @@ std::vector<std::size_t> crushed_by_stress(const dem::Particles& P, std::vector<
   s.resize(6 * P.size(), 0.0);
   for (const auto* mc : meshes)
     for (const auto& c : mc->contacts()) {
-      if (!current(P, c)) continue;
+      if (!contact_is_current(P, c)) continue;
       const auto i = static_cast<std::size_t>(c.particle_index);
       const Eigen::Vector3d a = -P.r[i] * c.normal;  // arm at the radius, as World::contact_stress
       dem::add_contact_stress(&s[6 * i], a.data(), c.force.data());

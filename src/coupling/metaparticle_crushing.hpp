@@ -137,6 +137,9 @@ struct CrushedSphere {
 // result is left default (birth radii 0) where batch[n] has no turns.
 std::vector<PlacedFragments> place_crushed_batch(std::vector<CrushedSphere>& batch, bool shrink);
 
+// A mesh contact record of the last step whose particle is still at its index (removals make records stale).
+bool contact_is_current(const dem::Particles& P, const dem::MeshContactRecord& c);
+
 // F_c of a sphere of diameter d (N), size-independent strength.
 double crushing_force(double d, double tensile_strength);
 
