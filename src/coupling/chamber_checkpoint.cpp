@@ -24,6 +24,11 @@ std::vector<double> fingerprint(const ChamberDem& d) {
   // Only with the size effect on, so that checkpoints written before it existed still load.
   if (p.crushing.size_exponent != 0) f.insert(f.end(), {p.crushing.size_exponent, p.crushing.reference_size});
   if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
+  if (p.fines_bed.enabled) {
+    const auto& b = p.fines_bed;
+    f.insert(f.end(), {static_cast<double>(b.bands), static_cast<double>(b.sectors), b.bulk_fraction, b.modulus_Pa,
+                       b.exponent, b.rebound, b.max_strain});
+  }
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
     f.push_back(static_cast<double>(v->size()));
@@ -70,6 +75,7 @@ void ChamberDem::save_state(core::BinaryWriter& w) {
   w.put_vec(force_avg_.sums());
   for (int k = 0; k < 3; ++k) w.put(concave_origin_[k]);
   w.put_string(rng_.state());
+  if (fines_) fines_->save_state(w);
   world_->save_state(w);
   w.tag("CEND");
 }
@@ -121,6 +127,7 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   force_avg_.restore(std::move(sums), map_window);
   for (int k = 0; k < 3; ++k) r.get(concave_origin_[k]);
   if (!rng_.set_state(r.get_string())) r.fail("random generator state is corrupt");
+  if (fines_) fines_->load_state(r);
   world_->load_state(r);
   r.expect("CEND");
 }

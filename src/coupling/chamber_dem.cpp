@@ -117,6 +117,7 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   fragment_min_radius_ =
       dt / (wp.max_rayleigh_fraction * dem::rayleigh_time_step(1.0, rock_density_, wp.materials.material(kRock)));
   world_ = std::make_unique<dem::World>(wp);
+  gravity_ = std::sqrt(wp.gravity[0] * wp.gravity[0] + wp.gravity[1] * wp.gravity[1] + wp.gravity[2] * wp.gravity[2]);
 
   // Liners from the shared geometry (the concave refined at the force-map ring boundaries), plus a
   // distribution cone on the mantle top and the feed hopper above the concave (both rigid with their body).
@@ -147,7 +148,19 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   if (r_feed_out_ <= r_feed_in_) throw std::invalid_argument("dem.feed.rock_size_mm: rocks do not fit the chamber top");
   if (p_.sieves_m.empty()) throw std::invalid_argument("dem.sieves_mm: at least one sieve");
   screened_kg_.assign(p_.sieves_m.size() + 1, 0.0);  // last class: above the largest sieve
+  if (p_.fines_bed.enabled)
+    fines_ = std::make_unique<FinesBed>(p_.fines_bed, p_.chamber.mantle, p_.chamber.concave, screened_kg_.size(),
+                                        rock_density_);
 }
+
+namespace {
+Eigen::Isometry3d isometry(const dem::Pose& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = p.orientation.toRotationMatrix();
+  T.translation() = p.position;
+  return T;
+}
+}  // namespace
 
 void ChamberDem::set_liners(const BodyMotion& m, const BodyMotion& c, double tau) {
   auto apply = [tau](dem::MeshContact& mc, const BodyMotion& b, double com_z, Eigen::Vector3d* origin_out) {
@@ -194,6 +207,15 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
       wc.force += b.force * h;
       wc.torque += b.torque * h;
     }
+    if (fines_) {
+      const auto f = fines_->step(isometry(mantle_->mesh().pose()), isometry(concave_->mesh().pose()), com_m, com_c,
+                                  h, gravity_);
+      wm.force += f.f_mantle * h;
+      wm.torque += f.t_mantle * h;
+      wc.force += f.f_concave * h;
+      wc.torque += f.t_concave * h;
+      fines_force_ = f.normal_force;
+    }
     force_avg_.add(concave_->region_normal_force(), h);
     force_window_s_ += h;
     if (p_.crushing.enabled) crush_squeezed(k + 1 == n);
@@ -215,6 +237,16 @@ void ChamberDem::bookkeeping() {
   breaks_.insert(breaks_.end(), br.begin(), br.end());
   world_->clear_breaks();
   discharge();
+  if (fines_) {  // fines that fell out of the bed's bottom band
+    const auto out = fines_->take_discharged();
+    double kg = 0;
+    for (std::size_t k = 0; k < out.size(); ++k) screened_kg_[k] += out[k], kg += out[k];
+    if (kg > 0) {
+      discharged_kg_ += kg;
+      discharge_log_.emplace_back(world_->time(), kg);
+    }
+    bin_coarse_rock();
+  }
   feed();
   // The throughput window is all the discharge log is for.
   const double keep_from = world_->time() - p_.throughput_window_s;
@@ -496,13 +528,17 @@ void ChamberDem::crush_squeezed(bool flush) {
     }
     const double d = equivalent_diameter(P.m[i], rock_density_);
     const auto cls = progeny_by_class(P.m[i], d, p_.sieves_m, p_.crushing.progeny_exponent);
+    crushed_kg_ += P.m[i];
+    ++crushed_count_;
+    if (fines_) {
+      fines_->deposit(concave_->mesh().to_body(batch[n].x), cls);
+      continue;
+    }
     for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
     mass += P.m[i];
-    ++crushed_count_;
   }
   if (mass > 0) {
     discharged_kg_ += mass;
-    crushed_kg_ += mass;
     discharge_log_.emplace_back(world_->time(), mass);
   }
   world_->remove_particles(remove);
@@ -561,6 +597,19 @@ void ChamberDem::grow_fragments(double h) {
   growing_.resize(keep);
 }
 
+void ChamberDem::bin_coarse_rock() {
+  const auto& P = world_->particles();
+  std::vector<double> v(fines_->cells(), 0.0);
+  const auto& cm = concave_->mesh();
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const Eigen::Vector3d xc = cm.to_body({P.x[i], P.y[i], P.z[i]});
+    if (xc.z() > z_top_) continue;  // above the chamber: in the hopper
+    const long k = fines_->cell_of(xc);
+    if (k >= 0) v[static_cast<std::size_t>(k)] += 4.0 / 3.0 * kPi * P.r[i] * P.r[i] * P.r[i];
+  }
+  fines_->set_coarse_volume(std::move(v));
+}
+
 ProductState ChamberDem::product() const {
   ProductState s;
   s.sieve_m = p_.sieves_m;
@@ -581,6 +630,10 @@ ProductState ChamberDem::product() const {
   s.metaparticles_fragmented = fragmented_count_;
   const auto& P = world_->particles();
   for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
+  if (fines_) {
+    s.fines_bed_kg = fines_->mass_kg();
+    s.in_chamber_kg += s.fines_bed_kg;
+  }
   const double t = world_->time(), w = std::min(p_.throughput_window_s, t);
   double recent = 0;
   for (auto it = discharge_log_.rbegin(); it != discharge_log_.rend() && it->first > t - w; ++it) recent += it->second;

@@ -15,6 +15,7 @@
 
 #include "core/binary_io.hpp"
 #include "coupling/chamber_params.hpp"
+#include "coupling/fines_bed.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/region_map.hpp"
 #include "dem/world.hpp"
@@ -36,7 +37,8 @@ struct BodyWrench {  // about the body's centre of mass, world frame
 struct ProductState {
   std::vector<double> sieve_m, passing_pct;  // cumulative mass passing, ascending sieves
   double fed_kg = 0, discharged_kg = 0, in_chamber_kg = 0, lost_kg = 0;
-  double crushed_kg = 0;  // part of discharged_kg: metaparticles crushed to fines (metaparticle_crushing.hpp)
+  double crushed_kg = 0;  // metaparticles crushed to fines (metaparticle_crushing.hpp): discharged, or in the fines bed
+  double fines_bed_kg = 0;  // part of in_chamber_kg: crushed fines held in the chamber (dem.fines_bed)
   long metaparticles_crushed = 0;     // crushed to fines (their mass is crushed_kg)
   long metaparticles_fragmented = 0;  // crushed into four fragments that stayed in the chamber (crushing.fragments)
   double throughput_kg_s = 0;  // discharged mass rate over the last window
@@ -83,6 +85,8 @@ class ChamberDem {
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
+  const FinesBed* fines_bed() const { return fines_.get(); }  // null unless dem.fines_bed
+  double fines_normal_force() const { return fines_force_; }   // N, fines bed on the mantle at the last step
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
@@ -110,7 +114,8 @@ class ChamberDem {
   void feed();
   void discharge();
   void crush_squeezed(bool flush);
-  void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
+  void grow_fragments(double h);
+  void bin_coarse_rock();  // the DEM rock's solid volume per fines-bed cell  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
   // Per crushed sphere (indices idx, batch[n] for idx[n]), what its fragments may touch at birth: the spheres it
   // overlaps and the liners it presses (their tangent planes) as obstacles, the overlapping spheres crushed with it
   // (`crushed`) as crushed_neighbours.
@@ -157,6 +162,8 @@ class ChamberDem {
   std::vector<uint64_t> tracked_ids_;
   std::vector<TrackedPoint> tracks_;
   Eigen::Vector3d concave_origin_ = Eigen::Vector3d::Zero();
+  std::unique_ptr<FinesBed> fines_;
+  double fines_force_ = 0, gravity_ = 0;  // N, m/s^2
   rocks::Rng rng_;  // reproducible feed positions, shapes and orientations
 };
 

@@ -44,6 +44,21 @@ ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::Chamb
     p.crushing.size_exponent = c.number_or("size_exponent", p.crushing.size_exponent, 0, 1.5, "");
   }
 
+  if (dem.has("fines_bed")) {  // retained fines (coupling/fines_bed.hpp)
+    auto c = dem.child("fines_bed");
+    auto& b = p.fines_bed;
+    b.enabled = c.boolean_or("enabled", true);
+    b.bands = c.integer_or("bands", b.bands, 1, 200);
+    b.sectors = c.integer_or("sectors", b.sectors, 1, 360);
+    b.bulk_fraction = c.number_or("bulk_fraction", b.bulk_fraction, 0.1, 0.9, "");
+    b.modulus_Pa = c.number_or("modulus_MPa", b.modulus_Pa / 1e6, 0.01, 1e5, "MPa", 1e6);
+    b.exponent = c.number_or("exponent", b.exponent, 1, 4, "");
+    b.rebound = c.number_or("rebound", b.rebound, 0.01, 1, "");
+    b.max_strain = c.number_or("max_strain", b.max_strain, 0.05, 0.95, "");
+    if (b.enabled && !p.crushing.enabled)
+      c.fail("enabled", "retains the fines of dem.crushing, which is off");
+  }
+
   auto f = dem.child("feed");
   p.feed.shapes = f.integer_or("shapes", p.feed.shapes, 1, 16);
   p.feed.rock_size_m = f.number("rock_size_mm", 5, 300, "mm", u::mm);

@@ -8,6 +8,7 @@
 
 #include "core/chamber_geometry.hpp"
 #include "core/config.hpp"
+#include "coupling/fines_bed.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "rocks/bpm_config.hpp"
 
@@ -51,6 +52,7 @@ struct ChamberParams {
   double throughput_window_s = 0.5;   // discharged-mass rate averaged over this window
   int tracked_particles = 4;          // trajectories of a few particles (section 4.2.2)
   CrushingParams crushing;            // metaparticles crushed to fines against the liners (off: the paper's model)
+  FinesBedParams fines_bed;           // crushed fines kept in the chamber as a bed on the liners (off: they leave at once)
 };
 
 // Reads the `dem:` mapping; `chamber` and the COM heights come from the mechanism parameters.

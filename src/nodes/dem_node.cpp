@@ -182,11 +182,11 @@ class DemNode {
     bag_.close();
     write_trajectories();
     const auto p = dem_->product();
-    ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg "
-             "(%.2f kg of it %ld metaparticles crushed to fines; %ld crushed into fragments that stayed), "
-             "%.1f %% of the wall time in coupling waits",
+    ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg; "
+             "%.2f kg in %ld metaparticles crushed to fines (%.2f kg of them still in the fines bed), %ld crushed into "
+             "fragments that stayed; %.1f %% of the wall time in coupling waits",
              dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
-             p.crushed_kg, p.metaparticles_crushed, p.metaparticles_fragmented,
+             p.crushed_kg, p.metaparticles_crushed, p.fines_bed_kg, p.metaparticles_fragmented,
              100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
     if (p.metaparticles_fragmented > 0)
       ROS_INFO("dem_node: fragment birth (this process): deepest overlap %.2f of the smaller radius in the best "
@@ -262,8 +262,9 @@ class DemNode {
     char eta[32] = "unknown";  // the first line of a (resumed) run has no rate yet
     if (done > 0) std::snprintf(eta, sizeof eta, "%.0f s", el * (T - t) / done);
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg (crushed %.2f kg)", t, T, 100.0 * t / T, eta, dem_->world().particles().size(),
-             dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg);
+             "discharged %.2f kg (crushed %.2f kg; fines bed %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta,
+             dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg,
+             p.fines_bed_kg, 1e-3 * dem_->fines_normal_force());
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
       if (cfg_.chamber.crushing.enabled)
@@ -292,6 +293,7 @@ class DemNode {
     ps.mass_in_chamber_kg = p.in_chamber_kg;
     ps.mass_lost_kg = p.lost_kg;
     ps.mass_crushed_kg = p.crushed_kg;
+    ps.mass_fines_bed_kg = p.fines_bed_kg;
     pub_product_.publish(ps);
     bag_.write("/crusher/product", stamp, ps);
     // Concave force map (mean over the window since the last output).

@@ -103,6 +103,8 @@ void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p,
   EXPECT_EQ(pa.metaparticles_crushed, pb.metaparticles_crushed);
   EXPECT_EQ(pa.metaparticles_fragmented, pb.metaparticles_fragmented);
   EXPECT_EQ(pa.crushed_kg, pb.crushed_kg);
+  EXPECT_EQ(pa.fines_bed_kg, pb.fines_bed_kg);
+  if (p.fines_bed.enabled) EXPECT_GT(pa.fines_bed_kg, 0.0);
   std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it; %ld crushed to fines, "
               "%ld to fragments\n", file.str().size(), a.world().particles().size(), a.world().bonds().size(),
               ra.breaks.size(), pa.metaparticles_crushed, pa.metaparticles_fragmented);
@@ -134,6 +136,18 @@ TEST(ChamberCheckpoint, RestoredRunWithGrowingFragmentsContinuesBitForBit) {
   p.crushing.min_fragment_m = 4e-3;
   p.crushing.batch_s = 2e-4;
   expect_restored_run_continues_bit_for_bit(p, true);
+}
+
+// With the retained-fines bed: its masses, fall speeds, hysteretic memory and the coarse rock's volumes.
+TEST(ChamberCheckpoint, RestoredRunWithAFinesBedContinuesBitForBit) {
+  auto p = small_filled_chamber();
+  p.crushing.enabled = true;
+  p.crushing.tensile_strength = 0.5e6;
+  p.crushing.batch_s = 2e-4;
+  p.fines_bed.enabled = true;
+  p.fines_bed.bands = 8;
+  p.fines_bed.sectors = 12;
+  expect_restored_run_continues_bit_for_bit(p);
 }
 
 TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
