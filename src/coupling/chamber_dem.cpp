@@ -245,7 +245,6 @@ void ChamberDem::bookkeeping() {
       discharged_kg_ += kg;
       discharge_log_.emplace_back(world_->time(), kg);
     }
-    bin_coarse_rock();
   }
   feed();
   // The throughput window is all the discharge log is for.
@@ -595,19 +594,6 @@ void ChamberDem::grow_fragments(double h) {
     if (r < g.r_end) growing_[keep++] = g;
   }
   growing_.resize(keep);
-}
-
-void ChamberDem::bin_coarse_rock() {
-  const auto& P = world_->particles();
-  std::vector<double> v(fines_->cells(), 0.0);
-  const auto& cm = concave_->mesh();
-  for (std::size_t i = 0; i < P.size(); ++i) {
-    const Eigen::Vector3d xc = cm.to_body({P.x[i], P.y[i], P.z[i]});
-    if (xc.z() > z_top_) continue;  // above the chamber: in the hopper
-    const long k = fines_->cell_of(xc);
-    if (k >= 0) v[static_cast<std::size_t>(k)] += 4.0 / 3.0 * kPi * P.r[i] * P.r[i] * P.r[i];
-  }
-  fines_->set_coarse_volume(std::move(v));
 }
 
 ProductState ChamberDem::product() const {

@@ -114,8 +114,7 @@ class ChamberDem {
   void feed();
   void discharge();
   void crush_squeezed(bool flush);
-  void grow_fragments(double h);
-  void bin_coarse_rock();  // the DEM rock's solid volume per fines-bed cell  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
+  void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
   // Per crushed sphere (indices idx, batch[n] for idx[n]), what its fragments may touch at birth: the spheres it
   // overlaps and the liners it presses (their tangent planes) as obstacles, the overlapping spheres crushed with it
   // (`crushed`) as crushed_neighbours.

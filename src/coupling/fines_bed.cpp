@@ -41,7 +41,6 @@ FinesBed::FinesBed(const FinesBedParams& p, const core::Profile& mantle, const c
   const std::size_t n = static_cast<std::size_t>(p.bands) * p.sectors;
   mass_.assign(n * classes_, 0.0);
   speed_.assign(n, 0.0);
-  coarse_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
   gap_.assign(n, 0.0);
   memory_.assign(n, mbd::BedCell{});
@@ -63,11 +62,6 @@ void FinesBed::deposit(const Eigen::Vector3d& xc, const std::vector<double>& cla
   const long k = cell_of(xc);
   double* to = k < 0 ? out_.data() : &mass_[static_cast<std::size_t>(k) * classes_];
   for (std::size_t c = 0; c < classes_; ++c) to[c] += class_kg[c];
-}
-
-void FinesBed::set_coarse_volume(std::vector<double> v) {
-  if (v.size() != cells()) throw std::logic_error("FinesBed::set_coarse_volume: one volume per cell");
-  coarse_ = std::move(v);
 }
 
 double FinesBed::cell_mass(std::size_t k) const {
@@ -100,7 +94,7 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     Eigen::Vector2d nzr;
     const double g = std::max(0.0, -core::signed_distance_inside(mantle_, {xm.z(), rho}, &nzr));
     gap_[k] = g;
-    space[k] = std::max(0.0, area_[b] * g - coarse_[k]);
+    space[k] = area_[b] * g;
     const double m = cell_mass(k);
     pressure_[k] = 0;
     if (m <= 0) {
@@ -159,7 +153,6 @@ void FinesBed::save_state(core::BinaryWriter& w) const {
   w.put<int64_t>(p_.sectors);
   w.put_vec(mass_);
   w.put_vec(speed_);
-  w.put_vec(coarse_);
   std::vector<double> mem;
   for (const auto& c : memory_) mem.push_back(c.e0), mem.push_back(c.emax);
   w.put_vec(mem);
@@ -173,10 +166,9 @@ void FinesBed::load_state(core::BinaryReader& r) {
   std::vector<double> mem;
   r.get_vec(mass_);
   r.get_vec(speed_);
-  r.get_vec(coarse_);
   r.get_vec(mem);
   r.get_vec(out_);
-  if (mass_.size() != n * classes_ || speed_.size() != n || coarse_.size() != n || mem.size() != 2 * n ||
+  if (mass_.size() != n * classes_ || speed_.size() != n || mem.size() != 2 * n ||
       out_.size() != classes_)
     r.fail("fines bed is corrupt");
   for (std::size_t k = 0; k < n; ++k) memory_[k] = {mem[2 * k], mem[2 * k + 1]};

@@ -4,10 +4,11 @@
 //
 // Cells are fixed in the concave's liner frame: `bands` along z over the concave's height x `sectors` in azimuth.
 // Each holds fines (kg per sieve class) and their mean fall speed.
-//  - Load: the fines fill the space that the coarse rock (the DEM's spheres) leaves between the liners,
-//    s = A g - V_coarse (A: the cell's concave area, g: the local gap along the mantle normal). Loose, they take
-//    m / rho_bulk; the strain e = 1 - s rho_bulk / m presses them along the hysteretic bed law
-//    (mbd/bed_law.hpp, virgin loading from e = 0): p A on both liners along the mantle normal.
+//  - Load: the fines fill the cell's space between the liners, A g (A: the cell's concave area, g: the local gap along
+//    the mantle normal). Loose, they take m / rho_bulk; the strain e = 1 - A g rho_bulk / m presses them along the
+//    hysteretic bed law (mbd/bed_law.hpp, virgin loading from e = 0): p A on both liners along the mantle normal.
+//    The coarse rock (the DEM's spheres) carries its own load: fines among it fill its voids without a force of
+//    their own until they alone fill the gap (a few kg of fines could not carry the whole gap's load).
 //  - Flow: nipped fines (p > 0) are held by the liners; free fines fall under gravity (Evertsson's cone-crusher flow:
 //    material falls while the gap opens) into the cell below as long as there is room there (its fines would still
 //    be loose), and out of the chamber from the bottom band (discharged, screened by their classes).
@@ -28,7 +29,7 @@ struct FinesBedParams {
   double modulus_Pa = 400e6;    // p = E e^n, virgin loading of the fines
   double exponent = 1.5;
   double rebound = 0.15;        // recovered fraction of each compression (the rest is crushing work)
-  double max_strain = 0.6;      // e is capped here (a cell the coarse rock fills leaves no space)
+  double max_strain = 0.6;      // e is capped here
 };
 
 struct FinesLoads {  // on each liner, about the given centres of mass (world frame)
@@ -53,8 +54,6 @@ class FinesBed {
   double cell_area(std::size_t k) const { return area_[k / p_.sectors]; }  // m^2 of concave
   // Fines of one crushed lump at xc (concave liner frame), kg per class; below the bottom they are discharged.
   void deposit(const Eigen::Vector3d& xc, const std::vector<double>& class_kg);
-  // Solid volume of the coarse rock in each cell (m^3), as binned by cell_of.
-  void set_coarse_volume(std::vector<double> v);
 
   // Presses the fines at the liners' pose (liner frame -> world) and lets the free ones fall for h seconds.
   FinesLoads step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave, const Eigen::Vector3d& com_mantle,
@@ -76,7 +75,7 @@ class FinesBed {
   double rho_bulk_ = 0, z_lo_ = 0, dz_ = 0;
   std::vector<double> area_, z_mid_, r_mid_, cos_, sin_;  // per band / per sector
   std::vector<double> mass_;                       // cells x classes, kg
-  std::vector<double> speed_, coarse_, pressure_, gap_;  // per cell: m/s down, m^3, Pa, m
+  std::vector<double> speed_, pressure_, gap_;  // per cell: m/s down, Pa, m
   std::vector<mbd::BedCell> memory_;
   std::vector<double> out_;  // discharged per class, not yet taken
 };
