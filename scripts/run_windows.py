@@ -6,7 +6,7 @@ Usage: scripts/run_windows.py RUN.bag [--cycles 2]
 Windows are whole drive cycles (the power swings within a cycle). Per window: test-point amplitude x (half the
 peak-to-peak per drive cycle, averaged over the window's cycles, as summary.json), mean drive power, throughput
 (discharged mass over the window / its length), specific energy (power / throughput), and the mass in the chamber
-at the window's end. summary.json gives one mean over all the run after run.settle_s, which hides a chamber
+at the window's end (and the part of it held in the fines bed, dem.fines_bed). summary.json gives one mean over all the run after run.settle_s, which hides a chamber
 still filling up from a pre-filled start (that takes seconds of simulated time). In a coupled run also: the power
 the liners put into the rock (minus the work of the DEM's wrenches on the mantle and the concave, each step's
 wrench with the mean of the liner's twists at the step's start and end; the drive's power less this is what the
@@ -47,7 +47,7 @@ def main():
                 p.append(m.power * 1e-3)
                 speeds.append(m.speed)
             else:
-                prod.append((t, m.mass_discharged_kg, m.mass_in_chamber_kg))
+                prod.append((t, m.mass_discharged_kg, m.mass_in_chamber_kg, getattr(m, "mass_fines_bed_kg", 0.0)))
     if not tp:
         sys.exit(f"run_windows: {a.bag} has no /crusher/drive message")
     speed = sum(speeds) / len(speeds)  # rad/s
@@ -60,8 +60,9 @@ def main():
           f"windows of {a.cycles} cycles ({window:.3f} s)")
     rock = rock_power(states, wrenches)  # [(t, power into the rock W, |mantle force| N)]
     trock = [r[0] for r in rock]
+    fines = any(q[3] > 0 for q in prod)
     print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}"
-          + (f" {'rock kW':>8} {'mantle kN':>9}" if rock else ""))
+          + (f" {'fines kg':>8}" if fines else "") + (f" {'rock kW':>8} {'mantle kN':>9}" if rock else ""))
     w0 = 0.0
     while w0 < t_end - 1e-9:
         w1 = w0 + window
@@ -76,23 +77,23 @@ def main():
         amp = f"{sum(amps) / len(amps):9.2f}" if amps else f"{'n/a':>9}"
         pm = sum(pw) / len(pw) if pw else float("nan")
         inside = [q for q in prod if w0 <= q[0] <= w1]
-        tph = se = chamber = float("nan")
+        tph = se = chamber = held = float("nan")
         if inside:
             before = [q for q in prod if q[0] < w0]
             m0 = before[-1][1] if before else 0.0
             t0 = before[-1][0] if before else 0.0
-            t1, m1, chamber = inside[-1]
+            t1, m1, chamber, held = inside[-1]
             if t1 > t0:
                 tph = (m1 - m0) / (t1 - t0) * 3.6
                 se = pm / tph if tph > 0 else float("nan")
-        extra = ""
+        extra = f" {held:8.1f}" if fines else ""
         if rock:
             rw = rock[bisect.bisect_left(trock, w0 - 1e-9):bisect.bisect_left(trock, w1 - 1e-9)]
             if rw:
-                extra = (f" {sum(r[1] for r in rw) / len(rw) * 1e-3:8.1f}"
+                extra += (f" {sum(r[1] for r in rw) / len(rw) * 1e-3:8.1f}"
                          f" {sum(r[2] for r in rw) / len(rw) * 1e-3:9.2f}")
             else:
-                extra = f" {'n/a':>8} {'n/a':>9}"
+                extra += f" {'n/a':>8} {'n/a':>9}"
         print(f"{w0:6.2f} {w1:6.2f} {amp} {pm:9.1f} {tph:7.1f} {se:7.2f} {chamber:11.1f}{extra}")
         w0 = w1
 
