@@ -241,3 +241,37 @@ TEST(FinesBed, ChamberKeepsCrushedFinesAndBalancesItsMass) {
   // Screening sums to the discharge.
   EXPECT_NEAR(s.passing_pct.back(), s.discharged_kg > 0 ? 100.0 : 0.0, 1e-9);
 }
+
+// dem.fines_bed is read with its units and ranges, and refused without the crushing whose fines it keeps.
+TEST(FinesBed, ConfigReadsTheBedAndNamesWhatIsWrong) {
+  const auto p = test_chamber::quick_demo_with("    max_strain: 0.35\n", "    bulk_fraction: 0.55");
+  EXPECT_FALSE(p.fines_bed.enabled);  // as shipped
+  EXPECT_EQ(p.fines_bed.bands, 22);
+  EXPECT_DOUBLE_EQ(p.fines_bed.modulus_Pa, 400e6);
+  EXPECT_DOUBLE_EQ(p.fines_bed.max_strain, 0.35);
+  try {
+    test_chamber::quick_demo_with("    max_strain: 1.5\n", "    bulk_fraction: 0.55");
+    FAIL() << "accepted max_strain 1.5";
+  } catch (const core::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dem.fines_bed.max_strain"), std::string::npos) << e.what();
+  }
+  // Switched on while dem.crushing is off: a clear error.
+  std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  const auto crush = text.find("  crushing:"), bed = text.find("  fines_bed:");
+  ASSERT_NE(crush, std::string::npos);
+  ASSERT_NE(bed, std::string::npos);
+  text.replace(text.find("enabled: false", bed), 14, "enabled: true");
+  text.replace(text.find("enabled: true", crush), 13, "enabled: false");
+  auto root = core::ConfigNode::load_string(text, "quick_demo+test");
+  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  try {
+    coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m, mech.fixed_cone.com_z_m);
+    FAIL() << "accepted a fines bed without crushing";
+  } catch (const core::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dem.fines_bed.enabled"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("crushing"), std::string::npos) << e.what();
+  }
+}
