@@ -85,7 +85,6 @@ class ChamberDem {
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
-  const FinesBed* fines_bed() const { return fines_.get(); }  // null unless dem.fines_bed
   double fines_normal_force() const { return fines_force_; }   // N, fines bed on the mantle at the last step
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.

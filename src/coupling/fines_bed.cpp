@@ -84,7 +84,6 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   FinesLoads out;
   const Eigen::Isometry3d to_mantle = mantle.inverse();
   const std::size_t S = static_cast<std::size_t>(p_.sectors);
-  std::vector<double> space(cells());
   for (std::size_t k = 0; k < cells(); ++k) {
     const std::size_t b = k / S, s = k % S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
@@ -94,14 +93,13 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     Eigen::Vector2d nzr;
     const double g = std::max(0.0, -core::signed_distance_inside(mantle_, {xm.z(), rho}, &nzr));
     gap_[k] = g;
-    space[k] = area_[b] * g;
     const double m = cell_mass(k);
     pressure_[k] = 0;
     if (m <= 0) {
       memory_[k] = mbd::BedCell{};
       continue;
     }
-    const double e = std::min(p_.max_strain, std::max(0.0, 1.0 - space[k] * rho_bulk_ / m));
+    const double e = std::min(p_.max_strain, std::max(0.0, 1.0 - area_[b] * g * rho_bulk_ / m));
     const double p = mbd::bed_hysteretic(memory_[k], e, p_.modulus_Pa, p_.exponent, p_.rebound).p;
     pressure_[k] = p;
     if (p <= 0) continue;
@@ -130,7 +128,7 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     if (b > 0) {
       const std::size_t below = k - S;
       const double mb = cell_mass(below);
-      move = std::min(move, std::max(0.0, rho_bulk_ * space[below] - mb));
+      move = std::min(move, std::max(0.0, rho_bulk_ * (area_[b - 1] * gap_[below]) - mb));
       if (move <= 0) {
         speed_[k] = 0;  // the cell below is full: the fines pile up
         continue;

@@ -66,20 +66,30 @@ inline void gyrate(const coupling::ChamberParams& p, double t, double tilt, coup
   m->velocity = m->angular_velocity.cross(m->com);
 }
 
-// The quick demo's chamber parameters, read from launch_free_configs/quick_demo.yaml with `extra` (YAML lines)
-// inserted before the line `before` (which must be in the file).
-inline coupling::ChamberParams quick_demo_with(const std::string& extra, const std::string& before) {
+// launch_free_configs/quick_demo.yaml as text.
+inline std::string quick_demo_text() {
   std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml");
   std::stringstream ss;
   ss << in.rdbuf();
-  std::string text = ss.str();
-  const auto at = text.find(before);
-  if (at == std::string::npos) throw std::logic_error("quick_demo.yaml has no line '" + before + "'");
-  text.insert(at, extra);
+  return ss.str();
+}
+
+// The chamber parameters of a run config given as text (the liner profiles and COM heights from its mbd section).
+inline coupling::ChamberParams chamber_params_of(const std::string& text) {
   auto root = core::ConfigNode::load_string(text, "quick_demo+test");
   const auto mech = mbd::load_mechanism_params(root.child("mbd"));
   return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
                                        mech.fixed_cone.com_z_m);
+}
+
+// The quick demo's chamber parameters with `extra` (YAML lines) inserted before the line `before` (which must be
+// in the file).
+inline coupling::ChamberParams quick_demo_with(const std::string& extra, const std::string& before) {
+  std::string text = quick_demo_text();
+  const auto at = text.find(before);
+  if (at == std::string::npos) throw std::logic_error("quick_demo.yaml has no line '" + before + "'");
+  text.insert(at, extra);
+  return chamber_params_of(text);
 }
 
 }  // namespace test_chamber

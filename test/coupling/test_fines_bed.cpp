@@ -256,19 +256,14 @@ TEST(FinesBed, ConfigReadsTheBedAndNamesWhatIsWrong) {
     EXPECT_NE(std::string(e.what()).find("dem.fines_bed.max_strain"), std::string::npos) << e.what();
   }
   // Switched on while dem.crushing is off: a clear error.
-  std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/quick_demo.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
+  std::string text = test_chamber::quick_demo_text();
   const auto crush = text.find("  crushing:"), bed = text.find("  fines_bed:");
   ASSERT_NE(crush, std::string::npos);
   ASSERT_NE(bed, std::string::npos);
   text.replace(text.find("enabled: false", bed), 14, "enabled: true");
   text.replace(text.find("enabled: true", crush), 13, "enabled: false");
-  auto root = core::ConfigNode::load_string(text, "quick_demo+test");
-  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
   try {
-    coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m, mech.fixed_cone.com_z_m);
+    test_chamber::chamber_params_of(text);
     FAIL() << "accepted a fines bed without crushing";
   } catch (const core::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("dem.fines_bed.enabled"), std::string::npos) << e.what();
