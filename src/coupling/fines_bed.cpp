@@ -93,8 +93,15 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     Eigen::Vector2d nzr;
     const double g = std::max(0.0, -core::signed_distance_inside(mantle_, {xm.z(), rho}, &nzr));
     gap_[k] = g;
-    const double m = cell_mass(k);
+    double m = cell_mass(k);
     pressure_[k] = 0;
+    // Compaction limit: fines pressed past max_strain flow out of the nip, down into the cell below (or out of the
+    // chamber from the bottom band), instead of carrying an ever higher pressure.
+    const double m_max = area_[b] * g * rho_bulk_ / (1.0 - p_.max_strain);
+    if (m > m_max) {
+      extrude(k, m_max > 0 ? 1.0 - m_max / m : 1.0);
+      m = m_max;
+    }
     if (m <= 0) {
       memory_[k] = mbd::BedCell{};
       continue;
@@ -143,6 +150,17 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     }
   }
   return out;
+}
+
+void FinesBed::extrude(std::size_t k, double fraction) {
+  const std::size_t S = static_cast<std::size_t>(p_.sectors);
+  double* from = &mass_[k * classes_];
+  double* to = k < S ? out_.data() : &mass_[(k - S) * classes_];
+  for (std::size_t c = 0; c < classes_; ++c) {
+    const double d = fraction * from[c];
+    to[c] += d;
+    from[c] -= d;
+  }
 }
 
 void FinesBed::save_state(core::BinaryWriter& w) const {

@@ -7,6 +7,8 @@
 //  - Load: the fines fill the cell's space between the liners, A g (A: the cell's concave area, g: the local gap along
 //    the mantle normal). Loose, they take m / rho_bulk; the strain e = 1 - A g rho_bulk / m presses them along the
 //    hysteretic bed law (mbd/bed_law.hpp, virgin loading from e = 0): p A on both liners along the mantle normal.
+//    Fines cannot compact past max_strain: a cell pressed further extrudes its excess into the cell below (out of the
+//    chamber from the bottom band), so the pressure stays at most E max_strain^n.
 //    The coarse rock (the DEM's spheres) carries its own load: fines among it fill its voids without a force of
 //    their own until they alone fill the gap (a few kg of fines could not carry the whole gap's load).
 //  - Flow: nipped fines (p > 0) are held by the liners; free fines fall under gravity (Evertsson's cone-crusher flow:
@@ -29,7 +31,7 @@ struct FinesBedParams {
   double modulus_Pa = 400e6;    // p = E e^n, virgin loading of the fines
   double exponent = 1.5;
   double rebound = 0.15;        // recovered fraction of each compression (the rest is crushing work)
-  double max_strain = 0.6;      // e is capped here
+  double max_strain = 0.35;     // compaction limit (0.55 -> 0.85 solid): fines pressed past it are extruded
 };
 
 struct FinesLoads {  // on each liner, about the given centres of mass (world frame)
@@ -78,6 +80,8 @@ class FinesBed {
   std::vector<double> speed_, pressure_, gap_;  // per cell: m/s down, Pa, m
   std::vector<mbd::BedCell> memory_;
   std::vector<double> out_;  // discharged per class, not yet taken
+
+  void extrude(std::size_t k, double fraction);  // moves that fraction of cell k's fines one band down (or out)
 };
 
 }  // namespace coupling

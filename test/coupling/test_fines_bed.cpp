@@ -1,5 +1,6 @@
 // The retained-fines bed (coupling/fines_bed.hpp) against closed forms: the pressure law on the local gap, action
-// and reaction between the liners, the work of a compression loop, nipped fines held and free fines falling.
+// and reaction between the liners, the work of a compression loop, nipped fines held and free fines falling, the
+// compaction limit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -197,6 +198,50 @@ TEST(FinesBed, FinesPileUpAboveANippedBand) {
   EXPECT_NEAR(bed.cell_mass(0), 1.1 * full, 1e-9 * full);
   EXPECT_NEAR(bed.cell_mass(1), 0.5 * full, 1e-9 * full);  // all of it rests on the nipped band
   EXPECT_NEAR(bed.cell_mass(2) + bed.cell_mass(3), 0.0, 1e-12 * full);
+}
+
+// Fines cannot compact past max_strain: as the gap closes, the pressure rises along the law to E max_strain^n and no
+// further, the excess flows into the cell below, and out of the chamber from the bottom band, by size class.
+TEST(FinesBed, FinesPressedPastTheCompactionLimitAreExtruded) {
+  const int B = 3, S = 1;
+  const auto p = params(B, S);
+  const double cap = p.modulus_Pa * std::pow(p.max_strain, p.exponent), keep = 1.0 / (1.0 - p.max_strain);
+  coupling::FinesBed bed(p, cylinder(0.3), concave_cylinder(), kClasses, kRho);
+  const double A = bed.cell_area(0), rho_b = p.bulk_fraction * kRho, full = rho_b * A * 0.05;  // loose at 50 mm
+  const Eigen::Vector3d o = Eigen::Vector3d::Zero(), X(-0.35, 0, -0.7);  // the sector's point on the concave
+  bed.deposit(X, {0.5 * full, 0.3 * full, 0.2 * full});
+  // The mantle closes the gap from 50 to 20 mm (no gravity: only the nip moves the fines).
+  double p_max = 0, out = 0, out1 = 0;
+  for (int k = 0; k <= 1000; ++k) {
+    bed.step(shifted({-0.03 * k / 1000.0, 0, 0}), Eigen::Isometry3d::Identity(), o, o, 1e-5, 0.0);
+    p_max = std::max(p_max, bed.cell_pressure(0));
+    const auto d = bed.take_discharged();
+    out += d[0] + d[1] + d[2];
+    out1 += d[1];
+    if (k == 300) {  // gap 41 mm: e = 0.18, still on the law, nothing extruded yet
+      EXPECT_NEAR(bed.cell_pressure(0), p.modulus_Pa * std::pow(1 - 0.041 / 0.05, p.exponent), 1e-6 * cap);
+      EXPECT_EQ(out, 0.0);
+    }
+  }
+  EXPECT_NEAR(bed.cell_gap(0), 0.02, 1e-12);
+  EXPECT_NEAR(p_max, cap, 1e-9 * cap);
+  EXPECT_NEAR(bed.cell_pressure(0), cap, 1e-9 * cap);
+  const double held = keep * rho_b * A * 0.02;  // the most the 20 mm gap holds, compacted to the limit
+  EXPECT_NEAR(bed.cell_mass(0), held, 1e-9 * full);
+  EXPECT_NEAR(out, full - held, 1e-9 * full);
+  EXPECT_NEAR(out1, 0.3 * (full - held), 1e-9 * full);  // the extruded fines keep their size classes
+  // Higher up, the excess goes to the band below, where it is loose and stays (no gravity): mass is kept.
+  coupling::FinesBed up(p, cylinder(0.3), concave_cylinder(), kClasses, kRho);
+  const Eigen::Vector3d X2(-0.35, 0, -0.3);  // band 2
+  up.deposit(X2, in_first_class(2 * full));
+  up.step(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(), o, o, 1e-5, 0.0);
+  EXPECT_NEAR(up.cell_pressure(2), cap, 1e-9 * cap);
+  EXPECT_NEAR(up.cell_mass(2), keep * full, 1e-9 * full);
+  EXPECT_NEAR(up.cell_mass(1), (2 - keep) * full, 1e-9 * full);
+  up.step(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(), o, o, 1e-5, 0.0);
+  EXPECT_EQ(up.cell_pressure(1), 0.0);
+  EXPECT_NEAR(up.mass_kg(), 2 * full, 1e-12 * full);
+  EXPECT_EQ(up.take_discharged()[0], 0.0);
 }
 
 // In the gyrating small chamber with crushing: the crushed fines stay in the bed and load the liners; mass is
