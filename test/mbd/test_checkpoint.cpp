@@ -14,16 +14,12 @@
 #include "core/config.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
 
-mbd::MechanismParams gyp400() {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  return mbd::load_mechanism_params(root.child("mbd"));
-}
-
 mbd::MechanismParams hysteretic() {
-  auto p = gyp400();
+  auto p = test_mbd::shipped_mechanism();
   p.bed.law = mbd::BedLaw::Hysteretic;  // the README's alternative bed: its memory decides the force
   p.bed.rebound = 0.14;
   p.bed.viscosity_Pa_s = 0;
@@ -134,7 +130,7 @@ std::size_t continuation(const std::string& what, const mbd::MechanismParams& p,
 }
 
 TEST(Checkpoint, ContinuationIsBitwiseWithTheViscousBed) {
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   const std::size_t size = continuation("viscous bed", p, mbd::LoadModel::Bed, 1.5, 1.0);
   std::printf("checkpoint size (viscous bed, %d x %d bed patches): %zu bytes\n", p.sampling.azimuth,
               p.sampling.generator, size);
@@ -146,7 +142,7 @@ TEST(Checkpoint, ContinuationIsBitwiseWithTheHystereticBed) {
 }
 
 TEST(Checkpoint, ContinuationIsBitwiseWithEffectsEnabled) {
-  auto p = gyp400();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.motor_droop.enabled = true;  // drive torque from the speed-torque line
   p.effects.motor_droop.droop_rad_s_per_Nm = 0.5e-3;
   p.effects.absorber_nonlinearity.enabled = true;  // cubic stiffness + hysteresis loss
@@ -162,7 +158,7 @@ TEST(Checkpoint, ContinuationIsBitwiseWithEffectsEnabled) {
 
 TEST(Checkpoint, ContinuationIsBitwiseWithHeldParticleWrenches) {
   // LoadModel::None as in a DEM-coupled run: the held wrenches are the load (and the cones come into contact).
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   continuation("particle wrenches", p, mbd::LoadModel::None, 1.5, 1.0, [](mbd::Mechanism& m) {
     m.set_particle_wrench(mbd::BodyId::FixedCone, {2e4, -5e3, 1e4}, {1e3, 2e3, -5e2});
     m.set_particle_wrench(mbd::BodyId::FloatingCone, {-3e4, 1e4, -2e4}, {-2e3, 0, 1e3});
@@ -234,14 +230,14 @@ void expect_refused(const std::string& bytes, const mbd::MechanismParams& p, mbd
 }
 
 TEST(Checkpoint, TruncatedFileRefused) {
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   const std::string full = saved(p, mbd::LoadModel::Bed);
   for (std::size_t keep : {std::size_t(0), std::size_t(3), full.size() / 2, full.size() - 1})
     expect_refused(full.substr(0, keep), p, mbd::LoadModel::Bed, "truncated");
 }
 
 TEST(Checkpoint, WrongTagRefused) {
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   std::string bytes = saved(p, mbd::LoadModel::Bed);
   std::string other = bytes;
   std::memcpy(&other[0], "WRLD", 4);  // e.g. a DEM checkpoint
@@ -253,7 +249,7 @@ TEST(Checkpoint, WrongTagRefused) {
 }
 
 TEST(Checkpoint, OtherLoadModelRefused) {
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   expect_refused(saved(p, mbd::LoadModel::Bed), p, mbd::LoadModel::None,
                  "saved with load model 'bed', this mechanism has 'none'");
   expect_refused(saved(p, mbd::LoadModel::None), p, mbd::LoadModel::Bed,
@@ -261,7 +257,7 @@ TEST(Checkpoint, OtherLoadModelRefused) {
 }
 
 TEST(Checkpoint, OtherBodyCountVersionOrParametersRefused) {
-  const auto p = gyp400();
+  const auto p = test_mbd::shipped_mechanism();
   const std::string bytes = saved(p, mbd::LoadModel::Bed);
   std::string b = bytes;
   const uint32_t seven = 7, nine = 9;

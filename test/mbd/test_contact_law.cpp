@@ -6,16 +6,12 @@
 #include "core/config.hpp"
 #include "mbd/contact_law.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
 
-mbd::MechanismParams load_400() {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  return mbd::load_mechanism_params(root.child("mbd"));
-}
-
 TEST(ContactLaw, TableOneConvertedToSiAtLoad) {
-  const auto p = load_400();
+  const auto p = test_mbd::shipped_mechanism();
   // k = 1e5 N/mm^1.5 -> 1e5 * 1000^1.5 N/m^1.5; c = 50 (kg-s-mm) -> 50 * 1000^(1+2).
   EXPECT_NEAR(p.contact.k, 3.1622776601683795e9, 1.0);
   EXPECT_NEAR(p.contact.c, 5.0e10, 1.0);
@@ -29,7 +25,7 @@ TEST(ContactLaw, TableOneConvertedToSiAtLoad) {
 }
 
 TEST(ContactLaw, Eq11HandComputedInBothUnitSystems) {
-  const auto p = load_400();
+  const auto p = test_mbd::shipped_mechanism();
   // Hand computation in kg-s-mm-N: d = 0.5 mm, d_dot = 20 mm/s:
   //   1e5 * 0.5^1.5 + 50 * 20^1 * 0.5^2 = 35355.339 + 250 = 35605.339 N
   const double mm_units = 1e5 * std::pow(0.5, 1.5) + 50.0 * 20.0 * 0.25;

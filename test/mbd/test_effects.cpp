@@ -9,13 +9,9 @@
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "mbd/simulate.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
-
-mbd::MechanismParams base() {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  return mbd::load_mechanism_params(root.child("mbd"));
-}
 
 double mean(const std::vector<double>& x) {
   double m = 0;
@@ -38,12 +34,12 @@ mbd::Recording run(const mbd::MechanismParams& p, double seconds = 3.0) {
 }
 
 const mbd::Recording& baseline() {
-  static const mbd::Recording r = run(base());
+  static const mbd::Recording r = run(test_mbd::shipped_mechanism());
   return r;
 }
 
 TEST(Effects, MotorDroopLowersSpeedByDroopTimesTorque) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.motor_droop.enabled = true;
   p.effects.motor_droop.droop_rad_s_per_Nm = 0.5e-3;  // 0.5 rad/s per kN m
   const auto r = run(p);
@@ -60,7 +56,7 @@ TEST(Effects, MotorDroopLowersSpeedByDroopTimesTorque) {
 }
 
 TEST(Effects, MotorDroopTooStiffForTheStepIsRejected) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.motor_droop.enabled = true;
   p.effects.motor_droop.droop_rad_s_per_Nm = 1e-6;
   try {
@@ -72,7 +68,7 @@ TEST(Effects, MotorDroopTooStiffForTheStepIsRejected) {
 }
 
 TEST(Effects, JointFrictionAddsItsDissipationToThePower) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.joint_friction.enabled = true;
   p.effects.joint_friction.coulomb_Nm = 300.0;
   mbd::Mechanism m(p, mbd::LoadModel::Bed);
@@ -92,7 +88,7 @@ TEST(Effects, JointFrictionAddsItsDissipationToThePower) {
 }
 
 TEST(Effects, CardanMisalignmentGivesTwiceDriveFrequencyRipple) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.cardan_misalignment.enabled = true;
   p.effects.cardan_misalignment.angle_rad = 10.0 * M_PI / 180;
   const auto r = run(p);
@@ -108,7 +104,7 @@ TEST(Effects, CardanMisalignmentGivesTwiceDriveFrequencyRipple) {
 }
 
 TEST(Effects, AbsorberNonlinearityStiffensTheFrame) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.absorber_nonlinearity.enabled = true;
   p.effects.absorber_nonlinearity.cubic_N_per_m3 = 5e10;
   const auto r = run(p);
@@ -128,10 +124,10 @@ TEST(Effects, AbsorberNonlinearityStiffensTheFrame) {
 }
 
 TEST(Effects, AbsorberHysteresisDissipates) {
-  auto p = base();
+  auto p = test_mbd::shipped_mechanism();
   p.effects.absorber_nonlinearity.enabled = true;
   p.effects.absorber_nonlinearity.hysteresis = 0.5;
-  mbd::Mechanism m(p, mbd::LoadModel::Bed), m0(base(), mbd::LoadModel::Bed);
+  mbd::Mechanism m(p, mbd::LoadModel::Bed), m0(test_mbd::shipped_mechanism(), mbd::LoadModel::Bed);
   m.advance(4.0);
   m0.advance(4.0);
   const auto a = m.energy(), a0 = m0.energy();

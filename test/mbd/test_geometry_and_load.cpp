@@ -7,6 +7,7 @@
 #include "core/config.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
 
@@ -26,8 +27,7 @@ TEST(ChamberGeometry, SignedDistanceToAConeProfile) {
 }
 
 TEST(ChamberGeometry, ShippedChamberHasPositiveRestGaps) {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  const auto p = test_mbd::shipped_mechanism();
   const auto& g = p.chamber;
   for (std::size_t i = 0; i < g.mantle.size(); ++i) {
     const double gap = core::signed_distance_inside(g.concave, {g.mantle.z[i], g.mantle.r[i]}, nullptr);
@@ -37,8 +37,7 @@ TEST(ChamberGeometry, ShippedChamberHasPositiveRestGaps) {
 }
 
 TEST(ChamberGeometry, LinerPosesStartAtTheSphereCentre) {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  const auto p = test_mbd::shipped_mechanism();
   mbd::Mechanism m(p);
   EXPECT_LT(m.liner_pose(mbd::BodyId::FloatingCone).translation().norm(), 1e-12);
   EXPECT_LT(m.liner_pose(mbd::BodyId::FixedCone).translation().norm(), 1e-12);
@@ -54,8 +53,7 @@ TEST(ChamberGeometry, LinerPosesStartAtTheSphereCentre) {
 }
 
 TEST(ParticleWrench, StaticForceOnTheConcaveDisplacesTheFrameByForceOverStiffness) {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  const auto p = test_mbd::shipped_mechanism();
   auto mean_x = [&](bool loaded, double* ext_work) {
     mbd::Mechanism m(p, mbd::LoadModel::Bed);
     if (loaded) m.set_particle_wrench(mbd::BodyId::FixedCone, {2e4, 0, 0}, {0, 0, 0});

@@ -10,13 +10,9 @@
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "mbd/simulate.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
-
-mbd::MechanismParams load(const std::string& name) {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + name);
-  return mbd::load_mechanism_params(root.child("mbd"));
-}
 
 // Amplitude of the component of x at frequency f (Hz), least squares over the record.
 double harmonic(const std::vector<double>& t, const std::vector<double>& x, double f) {
@@ -37,7 +33,7 @@ TEST(Mechanism, CycleAmplitudeIsHalfPeakToPeak) {
 }
 
 TEST(Mechanism, ConstraintErrorBoundedOverLongRun) {
-  const auto p = load("gyp1200_400rpm.yaml");
+  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
   mbd::Mechanism m(p, mbd::LoadModel::Bed);
   double worst = 0;
   const long steps = std::lround(20.0 / p.dt_s);
@@ -58,7 +54,7 @@ TEST(Mechanism, ConstraintErrorBoundedOverLongRun) {
 
 TEST(Mechanism, DominantFrequencyIsTheDriveFrequency) {
   for (const char* name : {"gyp1200_400rpm.yaml", "gyp1200_600rpm.yaml"}) {
-    const auto p = load(name);
+    const auto p = test_mbd::shipped_mechanism(name);
     mbd::SimOptions o;
     o.duration_s = 6.0;
     o.settle_s = 3.0;
@@ -78,7 +74,7 @@ TEST(Mechanism, DominantFrequencyIsTheDriveFrequency) {
 TEST(Mechanism, PowerBalanceOverWholeCycles) {
   for (int c = 0; c < 3; ++c) {
     const auto model = c == 2 ? mbd::LoadModel::None : mbd::LoadModel::Bed;
-    auto p = load("gyp1200_400rpm.yaml");
+    auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
     if (c == 1) {  // hysteretic bed: its path-dependent force is booked through the stored energy
       p.bed.law = mbd::BedLaw::Hysteretic;
       p.bed.rebound = 0.14;
@@ -109,7 +105,7 @@ namespace {
 TEST(Mechanism, HystereticBedBalanceThroughTheStartUp) {
   // During the drive ramp the bed's stored energy changes (at steady state it only rotates with the load),
   // so this run checks that the stored part is booked out of the dissipation.
-  auto p = load("gyp1200_400rpm.yaml");
+  auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
   p.bed.law = mbd::BedLaw::Hysteretic;
   p.bed.rebound = 0.14;
   p.bed.viscosity_Pa_s = 0;
@@ -126,7 +122,7 @@ TEST(Mechanism, HystereticBedBalanceThroughTheStartUp) {
 }
 
 TEST(Mechanism, WarmStartIsTheSameRunWithTheClockSetBack) {
-  const auto p = load("gyp1200_400rpm.yaml");
+  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
   mbd::Mechanism cold(p, mbd::LoadModel::Bed), warm(p, mbd::LoadModel::None);
   cold.advance(3.0);
   warm.warm_start(3.0, mbd::LoadModel::Bed);  // bed during the warm start, idle afterwards
@@ -152,8 +148,7 @@ TEST(Mechanism, LoadNames) {
 }
 
 TEST(Mechanism, DeterministicAndThreadSafe) {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  const auto p = mbd::load_mechanism_params(root.child("mbd"));
+  const auto p = test_mbd::shipped_mechanism();
   mbd::SimOptions o;
   o.duration_s = 0.5;
   o.settle_s = 1.0;

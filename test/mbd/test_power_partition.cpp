@@ -9,20 +9,16 @@
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "mbd/power_partition.hpp"
+#include "shipped_mechanism.hpp"
 
 namespace {
-
-mbd::MechanismParams load_400() {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
-  return mbd::load_mechanism_params(root.child("mbd"));
-}
 
 // The idle machine with a viscous drag F = -c v held on the floating cone's centre of mass, set each step from its
 // velocity (as the DEM's wrench is set each coupling step). Over 20 whole cycles the partition's load is that
 // drag's power, c |v|^2 summed by the test, and the parts add up to the drive's power (the mechanism's energy
 // returns to itself over whole cycles).
 TEST(PowerPartition, DragOnTheMantleIsBookedAsLoadAndThePartsAddUp) {
-  const auto p = load_400();
+  const auto p = test_mbd::shipped_mechanism();
   const double c = 1e5;  // N s/m
   mbd::Mechanism m(p, mbd::LoadModel::None);
   m.advance(4.0);  // drive ramp and frame transient gone
