@@ -10,7 +10,10 @@ at the window's end (and the part of it held in the fines bed, dem.fines_bed). s
 still filling up from a pre-filled start (that takes seconds of simulated time). In a coupled run also: the power
 the liners put into the rock (minus the work of the DEM's wrenches on the mantle and the concave, each step's
 wrench with the mean of the liner's twists at the step's start and end; the drive's power less this is what the
-mechanism itself dissipates, mostly in the absorbers) and the mean force of the rock on the mantle.
+mechanism itself dissipates, mostly in the absorbers), the mean force of the rock on the mantle, and the mantle's
+mean nutation (the angle between the mantle's and the concave's axes): how far the rock lets the vibrator swing the
+mantle towards the concave (the idle machine, mantle resting on the concave, ~1.67 deg; the calibrated equivalent
+bed holds it at ~0.73 deg).
 """
 import argparse
 import bisect
@@ -28,6 +31,7 @@ def main():
     if a.cycles < 1:
         sys.exit(f"run_windows: --cycles must be a whole number >= 1 (got {a.cycles})")
     tx, x, tp, p, speeds, prod = [], [], [], [], [], []
+    nutation = []  # (t, deg) per coupling step
     states, wrenches = {}, {}  # coupling step -> (start time, [mantle, concave twist]) / [mantle, concave wrench]
     with open_bag(a.bag, "run_windows") as b:
         topics = ["/crusher/test_point", "/crusher/drive", "/crusher/product", "/crusher/geometry_state",
@@ -36,6 +40,7 @@ def main():
             t = m.header.stamp.to_sec()
             if topic == "/crusher/geometry_state":
                 states[m.step] = (m.time, [twist(m.mantle_twist), twist(m.concave_twist)])
+                nutation.append((m.time, angle_deg(axis(m.mantle_pose.orientation), axis(m.concave_pose.orientation))))
             elif topic == "/crusher/geometry_wrench":
                 if not m.stopped:
                     wrenches[m.step] = [wrench(m.mantle), wrench(m.concave)]
@@ -62,7 +67,7 @@ def main():
     trock = [r[0] for r in rock]
     fines = any(q[3] > 0 for q in prod)
     print(f"{'from':>6} {'to':>6} {'amp x mm':>9} {'power kW':>9} {'t/h':>7} {'kWh/t':>7} {'chamber kg':>11}"
-          + (f" {'fines kg':>8}" if fines else "") + (f" {'rock kW':>8} {'mantle kN':>9}" if rock else ""))
+          + (f" {'fines kg':>8}" if fines else "") + (f" {'rock kW':>8} {'mantle kN':>9} {'nut deg':>7}" if rock else ""))
     w0 = 0.0
     while w0 < t_end - 1e-9:
         w1 = w0 + window
@@ -94,12 +99,24 @@ def main():
                          f" {sum(r[2] for r in rw) / len(rw) * 1e-3:9.2f}")
             else:
                 extra += f" {'n/a':>8} {'n/a':>9}"
+            nw = [n[1] for n in nutation if w0 - 1e-9 <= n[0] < w1 - 1e-9]
+            extra += f" {sum(nw) / len(nw):7.3f}" if nw else f" {'n/a':>7}"
         print(f"{w0:6.2f} {w1:6.2f} {amp} {pm:9.1f} {tph:7.1f} {se:7.2f} {chamber:11.1f}{extra}")
         w0 = w1
 
 
 def twist(t):
     return [t.linear.x, t.linear.y, t.linear.z, t.angular.x, t.angular.y, t.angular.z]
+
+
+def axis(q):
+    """The body's z axis in the world: the third column of the rotation of the unit quaternion q."""
+    return [2 * (q.x * q.z + q.w * q.y), 2 * (q.y * q.z - q.w * q.x), 1 - 2 * (q.x * q.x + q.y * q.y)]
+
+
+def angle_deg(a, b):
+    c = sum(ai * bi for ai, bi in zip(a, b)) / math.sqrt(sum(ai * ai for ai in a) * sum(bi * bi for bi in b))
+    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
 
 
 def wrench(w):

@@ -57,6 +57,12 @@ print(f"power into the rock: {rock:.2f} kW from the bag's wrenches and twists, {
       f"(drive {drive:.2f} kW, absorbers {absorbers:.2f} kW)")
 if not load > 0.5 or abs(rock - load) > 0.05 * load + 0.1:
     sys.exit("FAIL: the rock's power from the bag disagrees with mbd_node's energy audit (or the rock takes none)")
+# The mantle's nutation: this lightly loaded chamber lets the vibrator swing the mantle nearly onto the concave
+# (1.67 deg at rest against it, mbd_bench --load none --diag); not in radians, not another axis.
+nut = [float(r[9]) for r in rows]
+print(f"mantle nutation per window: {nut} deg")
+if not all(1.2 < n < 1.8 for n in nut):
+    sys.exit("FAIL: run_windows.py's nutation is outside 1.2-1.8 deg for a lightly loaded quick demo")
 PY
 # A file that is not a bag: one line naming it, non-zero exit.
 msg=$(/usr/bin/python3 "$src/scripts/run_windows.py" "$out/case.yaml" 2>&1) && { echo "FAIL: run_windows.py read a YAML file as a bag"; exit 1; }
