@@ -85,8 +85,8 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   std::vector<double> f;
   r.get_vec(f, 1000);
   if (f != fingerprint(*this))
-    r.fail("written for another feed or chamber (rocks, bonds, liners, sieves, crushing or time step differ from "
-           "this configuration; only the amounts fed and the duration may change)");
+    r.fail("written for another feed or chamber (rocks, bonds, liners, sieves, crushing, fines bed or time step "
+           "differ from this configuration; only the amounts fed and the duration may change)");
   prefilled_ = r.get<char>() != 0;
   for (double* v : {&prefilled_kg_, &deepest_liner_overlap_, &next_bookkeeping_, &feed_credit_kg_, &fed_kg_,
                     &discharged_kg_, &lost_kg_, &force_window_s_})

@@ -184,4 +184,19 @@ TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
   const std::string e2 = load_error(p, bytes.substr(0, bytes.size() / 2), "half.ckpt");
   ASSERT_FALSE(e2.empty()) << "a truncated checkpoint was accepted";
   EXPECT_NE(e2.find("truncated"), std::string::npos) << e2;
+  // A fines bed with another compaction limit (as the checkpoints of the bed before it had one, cap 0.6).
+  auto bed = p;
+  bed.crushing.enabled = true;
+  bed.fines_bed.enabled = true;
+  coupling::ChamberDem b(bed);
+  Record bed_rec;
+  run_steps(b, bed, 0, 2, &bed_rec);
+  std::stringstream bed_file;
+  core::BinaryWriter wb(bed_file);
+  b.save_state(wb);
+  auto looser = bed;
+  looser.fines_bed.max_strain = 0.6;
+  const std::string e3 = load_error(looser, bed_file.str(), "bed.ckpt");
+  EXPECT_NE(e3.find("fines bed"), std::string::npos) << e3;
+  EXPECT_EQ(load_error(bed, bed_file.str(), "bed.ckpt"), "");
 }
