@@ -110,6 +110,17 @@ void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p,
               ra.breaks.size(), pa.metaparticles_crushed, pa.metaparticles_fragmented);
 }
 
+// The checkpoint of a chamber built from p after two coupling steps.
+std::string checkpoint_after_two_steps(const coupling::ChamberParams& p) {
+  coupling::ChamberDem a(p);
+  Record rec;
+  run_steps(a, p, 0, 2, &rec);
+  std::stringstream file;
+  core::BinaryWriter w(file);
+  a.save_state(w);
+  return file.str();
+}
+
 }  // namespace
 
 TEST(ChamberCheckpoint, RestoredRunContinuesBitForBit) { expect_restored_run_continues_bit_for_bit(small_filled_chamber()); }
@@ -152,13 +163,7 @@ TEST(ChamberCheckpoint, RestoredRunWithAFinesBedContinuesBitForBit) {
 
 TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
   const auto p = small_filled_chamber();
-  coupling::ChamberDem a(p);
-  Record rec;
-  run_steps(a, p, 0, 2, &rec);
-  std::stringstream file;
-  core::BinaryWriter w(file);
-  a.save_state(w);
-  const std::string bytes = file.str();
+  const std::string bytes = checkpoint_after_two_steps(p);
 
   // The error message of loading `file` (named `name`) into a chamber built from `q`; "" if it loads.
   auto load_error = [](const coupling::ChamberParams& q, const std::string& file, const std::string& name) {
@@ -188,15 +193,10 @@ TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
   auto bed = p;
   bed.crushing.enabled = true;
   bed.fines_bed.enabled = true;
-  coupling::ChamberDem b(bed);
-  Record bed_rec;
-  run_steps(b, bed, 0, 2, &bed_rec);
-  std::stringstream bed_file;
-  core::BinaryWriter wb(bed_file);
-  b.save_state(wb);
+  const std::string bed_bytes = checkpoint_after_two_steps(bed);
   auto looser = bed;
   looser.fines_bed.max_strain = 0.6;
-  const std::string e3 = load_error(looser, bed_file.str(), "bed.ckpt");
+  const std::string e3 = load_error(looser, bed_bytes, "bed.ckpt");
   EXPECT_NE(e3.find("fines bed"), std::string::npos) << e3;
-  EXPECT_EQ(load_error(bed, bed_file.str(), "bed.ckpt"), "");
+  EXPECT_EQ(load_error(bed, bed_bytes, "bed.ckpt"), "");
 }
