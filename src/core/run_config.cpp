@@ -9,7 +9,7 @@ namespace core {
 RunOptions load_run_options(const ConfigNode& run) {
   RunOptions o;
   o.duration_s = run.number("duration_s", 1e-3, 3600, "s");
-  o.load = run.choice("load", {"none", "bed", "dem"});
+  o.load = run.choice("load", {"none", "bed", "flow", "dem"});
   o.publish_hz = run.number_or("publish_hz", o.publish_hz, 1, 20000, "Hz");
   o.tf_hz = run.number_or("tf_hz", o.tf_hz, 1, 1000, "Hz");
   o.settle_s = run.number_or("settle_s", o.settle_s, 0, 3600, "s");

@@ -8,7 +8,7 @@ namespace core {
 
 struct RunOptions {
   double duration_s = 10.0;   // simulated time after the start
-  std::string load = "bed";   // none | bed | dem
+  std::string load = "bed";   // none | bed | flow | dem
   double publish_hz = 500;    // test point and drive samples (every one goes to the bag)
   double tf_hz = 50;          // tf and liner markers
   double settle_s = 1.0;      // start-up transient excluded from summary.json

@@ -358,7 +358,7 @@ double Mechanism::Impl::constraint_error() const {
 }
 
 Mechanism::Mechanism(const MechanismParams& params, LoadModel load) : impl_(new Impl(params, load)) {
-  validate(params);
+  validate(params, load == LoadModel::Bed);
   impl_->build();
 }
 Mechanism::~Mechanism() = default;

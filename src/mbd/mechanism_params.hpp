@@ -124,10 +124,11 @@ MechanismParams load_mechanism_params(const core::ConfigNode& mbd_section);
 // mechanism (benchmarks, diagnosis, recording generator).
 MechanismParams load_mechanism_params_file(const std::string& path);
 // Whole-parameter checks (ranges, geometry order, time step vs the stiffest element).
-// Throws std::invalid_argument naming the key (mbd.<...>), the value and the accepted range.
-void validate(const MechanismParams& p);
+// Throws std::invalid_argument naming the key (mbd.<...>), the value and the accepted range. with_bed false: the
+// equivalent bed is not the load (idle, flow and coupled runs), its stiffness does not bound the step.
+void validate(const MechanismParams& p, bool with_bed = true);
 // The stable-step bound used by validate(): min over elements of sqrt(m/k) (s), and which element.
-double stable_step_bound(const MechanismParams& p, std::string* element = nullptr);
+double stable_step_bound(const MechanismParams& p, std::string* element = nullptr, bool with_bed = true);
 // Writes an `mbd:` section (with the top-level key) that load_mechanism_params reads back.
 std::string to_yaml(const MechanismParams& p);
 

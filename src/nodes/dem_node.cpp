@@ -47,6 +47,7 @@ Config load_config(const std::string& path) {
   auto mech = mbd::load_mechanism_params(root.child("mbd"));  // the liner geometry is the mechanism's
   c.chamber = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
                                             mech.fixed_cone.com_z_m);
+  root.ignore("flow");  // mbd_node's chamber flow model
   root.finish();
   return c;
 }

@@ -1,5 +1,5 @@
 // mbd_node: the crusher mechanism (src/mbd) as a ROS node. Parameters in, topics and a bag out.
-//   ~config (path, required), ~out (dir for run.bag and summary.json), ~load (none|bed|dem), ~duration (s),
+//   ~config (path, required), ~out (dir for run.bag and summary.json), ~load (none|bed|flow|dem), ~duration (s),
 //   ~max_rtf (at most this many times real time, e.g. 1 to watch in rviz; 0 = as fast as possible),
 //   ~resume (true: continue a coupled run in ~out from its newest checkpoint, see coupling/checkpoint_files.hpp)
 // With run.checkpoint_every_s > 0 (coupled runs) the state is saved every so many simulated seconds and at the
@@ -23,12 +23,15 @@
 #include <sys/stat.h>
 
 #include "analysis/run_metrics.hpp"
+#include "chamber/flow_config.hpp"
+#include "chamber/flow_load.hpp"
 #include "core/run_config.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "mbd/power_partition.hpp"
+#include "nodes/mbd_node_flow.hpp"
 #include "nodes/ros_common.hpp"
 
 namespace {
@@ -43,6 +46,7 @@ struct Config {
   core::RunOptions run;
   core::CouplingOptions coupling;
   mbd::MechanismParams mech;
+  chamber::FlowParams flow;  // run.load flow: the chamber flow model (the `flow:` section)
 };
 
 Config load_config(const std::string& path, const std::string& load_override, double duration_override) {
@@ -51,16 +55,19 @@ Config load_config(const std::string& path, const std::string& load_override, do
   c.run = core::load_run_options(root.child("run"));
   c.coupling = core::load_coupling_options(root.child_or_empty("coupling"));
   c.mech = mbd::load_mechanism_params(root.child("mbd"));
+  c.flow = chamber::load_flow_params(root.child_or_empty("flow"));  // checked in every mode
   root.ignore("dem");  // read by dem_node
   root.finish();
   if (!load_override.empty()) {
-    if (load_override != "none" && load_override != "bed" && load_override != "dem")
-      throw core::ConfigError("parameter ~load: '" + load_override + "' is not accepted; accepted: none, bed, dem");
+    if (load_override != "none" && load_override != "bed" && load_override != "flow" && load_override != "dem")
+      throw core::ConfigError("parameter ~load: '" + load_override +
+                              "' is not accepted; accepted: none, bed, flow, dem");
     c.run.load = load_override;
   }
+  if (c.run.load == "flow") chamber::FlowModel(c.flow, c.mech.chamber.mantle, c.mech.chamber.concave);  // checks
   if (duration_override > 0) c.run.duration_s = duration_override;
   core::apply_coupled_overrides(c.run);
-  mbd::validate(c.mech);
+  mbd::validate(c.mech, c.run.load == "bed");
   if (c.run.load == "dem") core::coupling_steps(c.coupling.dt_s, c.mech.dt_s);  // throws if not whole steps
   return c;
 }
@@ -78,6 +85,10 @@ class MbdNode {
                     ? coupling::checkpoint_interval_steps(cfg_.run.checkpoint_every_s, cfg_.coupling.dt_s) : 0;
     if (coupled && cfg_.run.checkpoint_every_s > 0 && out_.empty())
       ROS_WARN("mbd_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
+    if (cfg_.run.load == "flow") {
+      flow_ = std::make_unique<chamber::FlowLoad>(cfg_.flow, cfg_.mech);
+      flow_out_ = std::make_unique<nodes::FlowOutputs>(nh, cfg_.mech);
+    }
     if (resume) {
       if (!coupled || out_.empty())
         throw std::invalid_argument("~resume needs a coupled run (run.load dem) and ~out, the run's folder");
@@ -158,7 +169,13 @@ class MbdNode {
         checkpoint_and_rotate();
       if (coupled) exchange(steps_per_coupling * dt);
       for (long i = 0; i < steps_per_coupling; ++i) {
-        mech_->step();
+        if (flow_) {
+          flow_->step(*mech_);
+          if (!flow_window_ && mech_->time() >= cfg_.run.settle_s - 0.5 * dt)
+            flow_window_ = chamber::snapshot(flow_->model(), mech_->time());
+        } else {
+          mech_->step();
+        }
         check_finite();
         const double t = mech_->time();
         if (t >= next_pub_ - 1e-9) {
@@ -319,6 +336,7 @@ class MbdNode {
       }
       pub_tf_.publish(tf);
       bag_.write("/tf", stamp, tf);
+      if (flow_) flow_out_->publish(stamp, *mech_, flow_->model(), bag_);
     }
   }
 
@@ -338,6 +356,11 @@ class MbdNode {
     s.config = config_path_;
     s.load = cfg_.run.load;
     if (product_) s.product = product_;
+    if (flow_ && flow_window_) {  // the product discharged after the settle time
+      auto w = *flow_window_;
+      chamber::close_window(w, flow_->model(), mech_->time());
+      s.product = nodes::flow_product(flow_->model(), w.by_class(), w.throughput_tph());
+    }
     std::ofstream(out_ + "/summary.json") << analysis::to_json(s);
     ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.3gx real time); amplitude x %.3f mm, power %.2f kW",
              s.simulated_s, wall_s_, s.simulated_s / std::max(wall_s_, 1e-9), s.amplitude_x_mm.mean,
@@ -414,6 +437,9 @@ class MbdNode {
   double next_pub_ = 0, next_tf_ = 0;
   double max_rtf_ = 0, wall_start_ = 0;
   std::unique_ptr<mbd::Mechanism> mech_;
+  std::unique_ptr<chamber::FlowLoad> flow_;        // run.load flow
+  std::unique_ptr<nodes::FlowOutputs> flow_out_;
+  std::optional<chamber::ProductWindow> flow_window_;  // opened at the settle time
   coupling::Leader leader_;
   ros::Publisher pub_clock_, pub_tp_, pub_drive_, pub_tf_, pub_geom_;
   ros::Subscriber sub_wrench_, sub_product_;
@@ -442,7 +468,7 @@ int main(int argc, char** argv) {
   const std::string out = nodes::param_or(pnh, "out", std::string());
   if (config_path.empty()) {
     std::fprintf(stderr, "mbd_node: parameter ~config is missing; usage: rosrun inertia_crusher mbd_node "
-                         "_config:=launch_free_configs/gyp1200_400rpm.yaml [_out:=DIR] [_load:=none|bed|dem]\n");
+                         "_config:=launch_free_configs/gyp1200_400rpm.yaml [_out:=DIR] [_load:=none|bed|flow|dem]\n");
     return 2;
   }
   Config cfg;

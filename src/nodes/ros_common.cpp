@@ -13,6 +13,14 @@ geometry_msgs::Vector3 to_msg(const Eigen::Vector3d& v) {
   return m;
 }
 
+geometry_msgs::Point to_point(const Eigen::Vector3d& v) {
+  geometry_msgs::Point q;
+  q.x = v.x();
+  q.y = v.y();
+  q.z = v.z();
+  return q;
+}
+
 Eigen::Vector3d from_msg(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
 geometry_msgs::Pose to_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {

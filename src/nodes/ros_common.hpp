@@ -17,6 +17,7 @@
 namespace nodes {
 
 geometry_msgs::Vector3 to_msg(const Eigen::Vector3d& v);
+geometry_msgs::Point to_point(const Eigen::Vector3d& v);
 Eigen::Vector3d from_msg(const geometry_msgs::Vector3& v);
 geometry_msgs::Pose to_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q);
 void from_pose(const geometry_msgs::Pose& m, Eigen::Vector3d* p, Eigen::Quaterniond* q);

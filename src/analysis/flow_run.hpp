@@ -1,0 +1,42 @@
+#pragma once
+// A fast-mode run without ROS: the mechanism under the chamber flow model (chamber/flow_load.hpp), with Table 5's
+// figures over the window after the settle time. Used by the flow benchmark, `validate` and the 400 rpm calibration.
+#include <vector>
+
+#include "analysis/run_metrics.hpp"
+#include "chamber/flow_model.hpp"
+#include "mbd/mechanism_params.hpp"
+
+namespace analysis {
+
+struct FlowRunOptions {
+  double duration_s = 10.0;  // recorded after the settle time
+  double settle_s = 4.0;     // drive ramp, frame transient and the charge's first pass
+  double sample_hz = 500;    // test point and power samples (rounded to whole steps)
+  double trace_every_s = 0;  // > 0: a line on stderr this often (charge, flows, nutation, power)
+};
+
+struct FlowRunResult {
+  RunSignals signals;  // t_s from 0 (the start of the run, settle included)
+  RunSummary summary;  // over the window; product = the discharge in the window
+  double p80_mm = 0, passing_12mm_pct = 0, passing_1mm_pct = 0;
+  double product_compressions = 0;  // mean compression events of the rock discharged in the run
+  double chamber_kg = 0;            // charge at the end
+  double crushing_kW = 0;           // crushing energy booked by the events in the window, per second
+  double mean_nutation_deg = 0;     // over the window
+  double wall_s = 0;
+  struct Band {  // per height band at the end, over its sectors
+    double z_m = 0, gap_min_m = 0, gap_max_m = 0, kg = 0, fill = 0, nipped = 0, compressions = 0;
+  };
+  std::vector<Band> bands;  // bottom first; fill = mass / loose capacity at the mean gap
+};
+
+FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowParams& flow, const FlowRunOptions& o);
+
+// Size (mm) at which the cumulative passing (ascending sieves, percent) crosses `pct`, interpolated linearly in
+// log size between sieves; null-like -1 when it is not crossed inside the sieves.
+double passing_size_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double pct);
+// Passing (%) at size x_mm, interpolated the same way (0 below the finest sieve's passing... clamped).
+double passing_at_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double x_mm);
+
+}  // namespace analysis

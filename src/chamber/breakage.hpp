@@ -1,0 +1,42 @@
+#pragma once
+// Interparticle breakage of one compression event in a bed (Evertsson and Bearman 1997; chamber_models.md
+// section 2): p = [B S(s) + I - S(s)] f, f and p the mass by size class before and after, s the event's
+// compression ratio. S is diagonal (the share of each class selected), B lower triangular with columns summing
+// to one (mass conserved).
+//   selection  S_j(s) = 1 - exp(-(s / s_cj)^m),  s_cj = s_c (x_j / x_ref)^(-q)   (coarser classes break sooner)
+//   progeny    B(x; y) = phi (x/y)^gamma + (1 - phi) (x/y)^beta   (Austin's cumulative form, y = top of class j)
+// Classes follow ascending sieves x_0 < ... < x_{K-1}: class 0 is the pan (below x_0), class k holds
+// (x_{k-1}, x_k], class K what is above the largest sieve. x_j is the geometric mean of its bounds (pan: x_0 / 2,
+// top class: x_{K-1} sqrt 2).
+#include <vector>
+
+namespace chamber {
+
+struct BreakageParams {
+  double s_c = 0.25;      // compression ratio at which a class of size x_ref is 63 % selected
+  double m = 2.0;         // selection exponent
+  double q = 0.5;         // size exponent of s_c
+  double x_ref = 10e-3;   // m
+  double phi = 0.4, gamma = 0.8, beta = 3.0;  // progeny
+};
+
+class Breakage {
+ public:
+  // sieves: ascending, m. Throws std::invalid_argument for bad sieves or parameters.
+  Breakage(const std::vector<double>& sieves, const BreakageParams& p);
+  std::size_t classes() const { return x_.size(); }
+  double size(std::size_t j) const { return x_[j]; }    // representative size of class j (m)
+  double lower(std::size_t j) const { return lo_[j]; }  // lower bound (m, 0 for the pan)
+  double upper(std::size_t j) const { return up_[j]; }  // upper bound (m; top class: largest sieve x sqrt 2)
+  double selection(std::size_t j, double s) const;      // S_j(s)
+  double b(std::size_t i, std::size_t j) const { return B_[i * x_.size() + j]; }  // class j -> class i (i <= j)
+  // One event of compression ratio s applied in place to the mass vector f (kg per class).
+  void apply(double s, double* f) const;
+
+ private:
+  BreakageParams p_;
+  std::vector<double> x_, lo_, up_, B_;
+  mutable std::vector<double> work_;
+};
+
+}  // namespace chamber

@@ -1,0 +1,46 @@
+#include "chamber/flow_load.hpp"
+
+#include <numeric>
+
+namespace chamber {
+
+FlowLoad::FlowLoad(const FlowParams& p, const mbd::MechanismParams& m)
+    : model_(p, m.chamber.mantle, m.chamber.concave) {}
+
+void FlowLoad::step(mbd::Mechanism& mech) {
+  using mbd::BodyId;
+  const auto M = mech.body(BodyId::FloatingCone), C = mech.body(BodyId::FixedCone);
+  last_ = model_.step(mech.liner_pose(BodyId::FloatingCone), mech.liner_pose(BodyId::FixedCone), M.position,
+                      C.position, mech.dt(), mech.params().gravity_m_s2);
+  mech.set_particle_wrench(BodyId::FloatingCone, last_.f_mantle, last_.t_mantle);
+  mech.set_particle_wrench(BodyId::FixedCone, last_.f_concave, last_.t_concave);
+  mech.step();
+}
+
+double ProductWindow::throughput_tph() const {
+  const auto c = by_class();
+  const double kg = std::accumulate(c.begin(), c.end(), 0.0);
+  return t1 > t0 ? kg / (t1 - t0) * 3.6 : 0.0;
+}
+
+std::vector<double> ProductWindow::by_class() const {
+  std::vector<double> c(discharged1.size());
+  for (std::size_t j = 0; j < c.size(); ++j) c[j] = discharged1[j] - discharged0[j];
+  return c;
+}
+
+ProductWindow snapshot(const FlowModel& m, double t) {
+  ProductWindow w;
+  w.t0 = w.t1 = t;
+  w.discharged0 = w.discharged1 = m.discharged_by_class();
+  w.energy0 = w.energy1 = m.crushing_energy_J();
+  return w;
+}
+
+void close_window(ProductWindow& w, const FlowModel& m, double t) {
+  w.t1 = t;
+  w.discharged1 = m.discharged_by_class();
+  w.energy1 = m.crushing_energy_J();
+}
+
+}  // namespace chamber

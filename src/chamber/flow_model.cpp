@@ -1,0 +1,296 @@
+#include "chamber/flow_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace chamber {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kCountedCompression = 0.02;  // events below 2 % compression break (S(s) is small) but are not counted
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("flow: " + what);
+}
+
+// Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves.
+double passes(double lo, double up, double g) {
+  if (g >= up) return 1.0;
+  if (g <= lo) return 0.0;
+  return (g - lo) / (up - lo);
+}
+}  // namespace
+
+std::vector<double> default_feed_passing(const std::vector<double>& sieves) {
+  std::vector<double> p;
+  for (double x : sieves) p.push_back(x >= 50e-3 ? 1.0 : std::pow(x / 50e-3, 2.5));
+  return p;
+}
+
+FlowParams::FlowParams() : feed_passing(default_feed_passing(sieves_m)) {}
+
+FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const core::Profile& concave)
+    : p_(p), mantle_(mantle), breakage_(p.sieves_m, p.material.breakage) {
+  const auto& m = p.material;
+  require(p.bands >= 2 && p.sectors >= 1, "bands must be >= 2 and sectors >= 1");
+  require(m.solid_density > 0 && m.loose_fraction > 0 && m.loose_fraction < 1,
+          "needs a solid density > 0 and a loose fraction in (0, 1)");
+  require(m.modulus_Pa > 0 && m.exponent >= 1, "pressure law needs modulus > 0 and exponent >= 1");
+  require(m.rebound > 0 && m.rebound <= 1, "rebound must be in (0, 1]");
+  require(m.max_compression > 0 && m.max_compression < 1, "max_compression must be in (0, 1)");
+  require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
+  for (std::size_t i = 0; i < p.feed_passing.size(); ++i)
+    require(p.feed_passing[i] >= 0 && p.feed_passing[i] <= 1 && (i == 0 || p.feed_passing[i] >= p.feed_passing[i - 1]),
+            "feed_passing must be ascending fractions in [0, 1]");
+  rho0_ = m.loose_fraction * m.solid_density;
+  auto lo = [](const core::Profile& q) { return std::min(q.z.front(), q.z.back()); };
+  auto hi = [](const core::Profile& q) { return std::max(q.z.front(), q.z.back()); };
+  z_lo_ = std::max(lo(mantle), lo(concave));
+  const double z_hi = std::min(hi(mantle), hi(concave));
+  require(z_hi > z_lo_, "the mantle and the concave share no height");
+  dz_ = (z_hi - z_lo_) / p.bands;
+  for (int b = 0; b < p.bands; ++b) {
+    const double z0 = z_lo_ + b * dz_, z1 = z0 + dz_, r0 = concave.radius_at(z0), r1 = concave.radius_at(z1);
+    z_mid_.push_back(0.5 * (z0 + z1));
+    r_mid_.push_back(concave.radius_at(z_mid_.back()));
+    area_.push_back(2 * kPi * 0.5 * (r0 + r1) * std::hypot(dz_, r1 - r0) / p.sectors);
+  }
+  for (int s = 0; s < p.sectors; ++s) {
+    const double a = (s + 0.5) * 2 * kPi / p.sectors;
+    cos_.push_back(std::cos(a));
+    sin_.push_back(std::sin(a));
+  }
+  const std::size_t K = p.sieves_m.size();
+  for (std::size_t j = 0; j <= K; ++j)
+    feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
+  const std::size_t n = static_cast<std::size_t>(p.bands) * p.sectors;
+  mass_.assign(n * classes(), 0.0);
+  speed_.assign(n, 0.0);
+  pressure_.assign(n, 0.0);
+  gap_.assign(n, 0.0);
+  closing_.assign(n, 0);
+  count_.assign(n, 0.0);
+  total_.assign(n, 0.0);
+  memory_.assign(n, mbd::BedCell{});
+  out_.assign(classes(), 0.0);
+  pass_.assign(classes(), 0.0);
+}
+
+Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
+  const std::size_t b = k / p_.sectors, s = k % p_.sectors;
+  return {r_mid_[b] * cos_[s], r_mid_[b] * sin_[s], z_mid_[b]};
+}
+
+double FlowModel::sum_classes(std::size_t k) const {
+  const auto* m = &mass_[k * classes()];
+  return std::accumulate(m, m + classes(), 0.0);
+}
+
+double FlowModel::mass_kg() const { return std::accumulate(mass_.begin(), mass_.end(), 0.0); }
+double FlowModel::discharged_kg() const { return std::accumulate(out_.begin(), out_.end(), 0.0); }
+double FlowModel::product_compressions() const {
+  const double m = discharged_kg();
+  return m > 0 ? out_count_ / m : 0.0;
+}
+
+std::vector<double> FlowModel::passing(const std::vector<double>& by_class) const {
+  const double total = std::accumulate(by_class.begin(), by_class.end(), 0.0);
+  std::vector<double> out;
+  double cum = 0;
+  for (std::size_t k = 0; k < p_.sieves_m.size(); ++k) {
+    cum += by_class[k];
+    out.push_back(total > 0 ? cum / total : 0.0);
+  }
+  return out;
+}
+
+void FlowModel::deposit(std::size_t k, const std::vector<double>& class_kg) {
+  if (k >= cells() || class_kg.size() != classes())
+    throw std::invalid_argument("FlowModel::deposit: cell or number of size classes out of range");
+  add(k, class_kg.data(), 1.0, false);
+}
+
+// Choke feed: the hopper's column rests on the top band's rock and moves with it (keeps the cell's speed).
+void FlowModel::fill(std::size_t k, double kg) { add(k, feed_share_.data(), kg, true); }
+
+// Adds scale x share[j] kg per class to cell k: fresh rock, no compressions yet; at rest unless keep_speed.
+void FlowModel::add(std::size_t k, const double* share, double scale, bool keep_speed) {
+  double* c = &mass_[k * classes()];
+  const double m = cell_mass(k);
+  double kg = 0;
+  for (std::size_t j = 0; j < classes(); ++j) c[j] += scale * share[j], kg += scale * share[j];
+  total_[k] = sum_classes(k);
+  if (m + kg > 0) {
+    count_[k] *= m / (m + kg);
+    if (!keep_speed) speed_[k] *= m / (m + kg);
+  }
+  fed_ += kg;
+}
+
+// Moves kg of cell `from`'s rock, split by class_share (sums to 1 over the classes) or in proportion to its classes
+// (class_share null), into `to` (kg per class); to_count receives kg x the cell's compression count.
+void FlowModel::move(std::size_t from, double* to, double kg, const double* class_share, double* to_count) {
+  double* f = &mass_[from * classes()];
+  const double m = total_[from];
+  for (std::size_t j = 0; j < classes(); ++j) {
+    const double d = std::min(f[j], class_share ? kg * class_share[j] : kg * f[j] / m);
+    f[j] -= d;
+    to[j] += d;
+  }
+  total_[from] = sum_classes(from);
+  *to_count += kg * count_[from];
+}
+
+FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave,
+                          const Eigen::Vector3d& com_m, const Eigen::Vector3d& com_c, double h, double gravity) {
+  FlowLoads out;
+  const Eigen::Isometry3d to_mantle = mantle.inverse(), concave_to_mantle = to_mantle * concave;
+  const std::size_t S = static_cast<std::size_t>(p_.sectors), C = classes();
+  const auto& mat = p_.material;
+  // Moves kg out of cell k into the cell below (or out of the chamber from the bottom band), mixing the counts.
+  auto send_down = [&](std::size_t k, double kg, const double* share) {
+    if (kg <= 0) return;
+    if (k < S) {
+      move(k, out_.data(), kg, share, &out_count_);
+      return;
+    }
+    const std::size_t below = k - S;
+    const double mb = total_[below];
+    double moved_count = 0;
+    move(k, &mass_[below * C], kg, share, &moved_count);
+    total_[below] = sum_classes(below);
+    count_[below] = (mb * count_[below] + moved_count) / (mb + kg);
+    speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
+  };
+  for (std::size_t k = 0; k < cells(); ++k) {
+    const std::size_t b = k / S, s = k % S;
+    // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
+    const Eigen::Vector3d xc(r_mid_[b] * cos_[s], r_mid_[b] * sin_[s], z_mid_[b]);
+    const Eigen::Vector3d xm = concave_to_mantle * xc;
+    const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
+    Eigen::Vector2d nzr;
+    const double g = std::max(0.0, -core::signed_distance_inside(mantle_, {xm.z(), rho}, &nzr));
+    closing_[k] = prefilled_ && g < gap_[k];  // Evertsson: rock is held while the gap closes on it
+    gap_[k] = g;
+    pressure_[k] = 0;
+    const double cap = area_[b] * g * rho0_;  // loose mass the cell's space holds
+    if (!prefilled_ && p_.prefill) fill(k, cap);
+    double m = total_[k];
+    // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below.
+    const double m_max = cap / (1.0 - mat.max_compression);
+    if (m > m_max) {
+      send_down(k, m - m_max, nullptr);
+      m = m_max;
+    }
+    if (m <= 0) {
+      memory_[k] = mbd::BedCell{};
+      continue;
+    }
+    double e = std::clamp(1.0 - cap / m, 0.0, mat.max_compression);
+    if (e < 1e-9) e = 0;  // a cell filled to its loose capacity carries no load (round-off would hold it)
+    const mbd::BedCell before = memory_[k];
+    const double p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
+    if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {  // a compression event has ended
+      const double D = before.emax - before.e0;
+      breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
+      total_[k] = sum_classes(k);
+      energy_ += m / rho0_ * (1.0 - mat.rebound) * mat.modulus_Pa * std::pow(D, mat.exponent + 1) / (mat.exponent + 1);
+      if (D >= kCountedCompression) count_[k] += 1, ++events_;
+    }
+    pressure_[k] = p;
+    if (p <= 0) continue;
+    const double inv = 1.0 / std::max(rho, 1e-12);
+    const Eigen::Vector3d n = mantle.linear() * Eigen::Vector3d(nzr.y() * xm.x() * inv, nzr.y() * xm.y() * inv, nzr.x());
+    const Eigen::Vector3d X = concave * xc;
+    const Eigen::Vector3d F = p * area_[b] * n;  // on the concave (n: out of the mantle); -F on the mantle
+    out.f_concave += F;
+    out.t_concave += (X - com_c).cross(F);
+    out.f_mantle -= F;
+    out.t_mantle += (X - g * n - com_m).cross(-F);
+    out.normal_force += p * area_[b];
+  }
+  prefilled_ = true;
+  // Free rock falls, bottom band first (what leaves a cell makes room above it in the same step).
+  for (std::size_t k = 0; k < cells(); ++k) {
+    const std::size_t b = k / S;
+    const double m = total_[k];
+    if (m <= 0 || pressure_[k] > 0 || closing_[k]) {
+      speed_[k] = 0;
+      continue;
+    }
+    speed_[k] += gravity * h;
+    const double g_next = b > 0 ? gap_[k - S] : gap_[k];
+    const double* f = &mass_[k * C];
+    double movable = 0;
+    for (std::size_t j = 0; j < C; ++j)
+      movable += (pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j]);
+    double kg = movable * std::min(1.0, speed_[k] * h / dz_);
+    if (b > 0) {
+      const double room = std::max(0.0, rho0_ * area_[b - 1] * gap_[k - S] - total_[k - S]);
+      if (kg > room) kg = room, speed_[k] = std::min(speed_[k], speed_[k - S]);  // resting on the rock below
+    }
+    if (kg <= 0) {
+      if (movable <= 0) speed_[k] = 0;  // nothing fits through the gap below: the lumps are held
+      continue;
+    }
+    for (std::size_t j = 0; j < C; ++j) pass_[j] /= movable;
+    send_down(k, kg, pass_.data());
+  }
+  // Choke feed into the free cells of the top band.
+  for (std::size_t k = cells() - S; p_.choke_feed && k < cells(); ++k) {
+    if (pressure_[k] > 0) continue;
+    const double room = rho0_ * area_[k / S] * gap_[k] - total_[k];
+    if (room > 0) fill(k, room);
+  }
+  return out;
+}
+
+void FlowModel::save_state(core::BinaryWriter& w) const {
+  w.tag("FLOW");
+  w.put<int64_t>(p_.bands);
+  w.put<int64_t>(p_.sectors);
+  w.put<int64_t>(static_cast<int64_t>(classes()));
+  w.put_vec(mass_);
+  w.put_vec(speed_);
+  w.put_vec(count_);
+  std::vector<double> mem;
+  for (const auto& c : memory_) mem.push_back(c.e0), mem.push_back(c.emax);
+  w.put_vec(mem);
+  w.put_vec(out_);
+  w.put_vec(gap_);
+  w.put(fed_);
+  w.put(energy_);
+  w.put(out_count_);
+  w.put<int64_t>(events_);
+  w.put<char>(prefilled_);
+}
+
+void FlowModel::load_state(core::BinaryReader& r) {
+  r.expect("FLOW");
+  if (r.get<int64_t>() != p_.bands || r.get<int64_t>() != p_.sectors ||
+      r.get<int64_t>() != static_cast<int64_t>(classes()))
+    r.fail("flow model cells or size classes differ");
+  const std::size_t n = cells();
+  std::vector<double> mass, speed, count, mem, out;
+  r.get_vec(mass);
+  r.get_vec(speed);
+  r.get_vec(count);
+  r.get_vec(mem);
+  r.get_vec(out);
+  std::vector<double> gap;
+  r.get_vec(gap);
+  if (mass.size() != n * classes() || speed.size() != n || count.size() != n || mem.size() != 2 * n ||
+      out.size() != classes() || gap.size() != n)
+    r.fail("flow model state is corrupt");
+  mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap;
+  for (std::size_t k = 0; k < n; ++k) memory_[k] = {mem[2 * k], mem[2 * k + 1]}, total_[k] = sum_classes(k);
+  r.get(fed_);
+  r.get(energy_);
+  r.get(out_count_);
+  events_ = static_cast<long>(r.get<int64_t>());
+  prefilled_ = r.get<char>() != 0;
+}
+
+}  // namespace chamber

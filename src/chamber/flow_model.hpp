@@ -1,0 +1,128 @@
+#pragma once
+// Continuum flow model of the whole charge between the liners (the fast mode's load; chamber_models.md). ROS-free.
+//
+// Cells are fixed in the concave's liner frame: `bands` in z over the height the mantle and the concave share x
+// `sectors` in azimuth. Each holds rock by size class (breakage.hpp), its mean fall speed, the memory of the
+// hysteretic bed law (mbd/bed_law.hpp) and the mean number of compressions its rock has had. Per step, at the
+// liners' pose:
+//  - Gap: g of the cell's concave point to the mantle, along the mantle normal (the mantle's real motion).
+//  - Compression: the rock of mass m fills A g; loose it takes m / rho0 (rho0 = loose_fraction x solid density),
+//    so the compression ratio is s = 1 - A g rho0 / m (the piston-die kinematics rho = rho0 / (1 - s)). s presses
+//    the rock along the hysteretic law: virgin loading p = E (s - s0)^n, unloading recovers `rebound` of the
+//    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
+//    extruded into the cell below (out from the bottom band).
+//  - Breakage: each completed compression event (one loading-unloading loop of ratio s = smax - s0) breaks every
+//    class of the cell by the selection and breakage functions (breakage.hpp); mass conserved; its energy, the
+//    law's loss (1 - rebound) E s^(n+1) / (n + 1) per loose volume, is booked as crushing energy.
+//  - Flow (Evertsson 1999): rock is held while the gap closes on it and while it is pressed; while the gap opens it
+//    falls under gravity into the cell below as far as that cell has room (its rock would still be loose) and a lump
+//    only through a gap wider than itself (classes above the gap below are retained); rock resting on falling rock
+//    moves with it; from the bottom band it is discharged as product. So the fall per cycle is bounded by the
+//    opening time, and the capacity falls with the speed (chamber_models.md section 1).
+//  - Feed: choke feed; the top band takes feed of the given size distribution up to its loose capacity whenever it
+//    is free, so the feed rate is an output.
+//  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "chamber/breakage.hpp"
+#include "core/binary_io.hpp"
+#include "core/chamber_geometry.hpp"
+#include "mbd/bed_law.hpp"
+
+namespace chamber {
+
+// The rock as the flow model sees it (flow_material.yaml, from the virtual piston-die test).
+struct FlowMaterial {
+  double solid_density = 2600;   // kg/m^3 (Table 4)
+  double loose_fraction = 0.55;  // solid fraction of the loose bed
+  double modulus_Pa = 50e6;      // virgin loading p = E s^n
+  double exponent = 2.0;
+  double rebound = 0.15;         // recovered fraction of each compression
+  double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max))
+  BreakageParams breakage;
+};
+
+// The paper's -50 mm marble feed (section 3.2), taken as P(x) = (x / 50 mm)^2.5 below 50 mm: fraction passing.
+std::vector<double> default_feed_passing(const std::vector<double>& sieves_m);
+
+struct FlowParams {
+  int bands = 30, sectors = 16;
+  std::vector<double> sieves_m{1e-3, 2e-3, 4e-3, 8e-3, 12e-3, 16e-3, 22.4e-3, 31.5e-3, 40e-3, 50e-3, 63e-3};
+  // Cumulative fraction of the feed passing each sieve (same length, ascending, in [0, 1]); the rest is above the
+  // largest sieve. Default: default_feed_passing(sieves_m).
+  std::vector<double> feed_passing;
+  bool prefill = true;     // the chamber starts full of loose feed (at the first step's gap)
+  bool choke_feed = true;  // false: no feed (the chamber runs empty)
+  FlowMaterial material;
+  FlowParams();
+};
+
+struct FlowLoads {  // on each liner, about the given centres of mass (world frame)
+  Eigen::Vector3d f_mantle = Eigen::Vector3d::Zero(), t_mantle = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_concave = Eigen::Vector3d::Zero(), t_concave = Eigen::Vector3d::Zero();
+  double normal_force = 0;  // N, sum of p A
+};
+
+class FlowModel {
+ public:
+  // mantle, concave: liner profiles in their liner frames. Throws std::invalid_argument for a bad parameter.
+  FlowModel(const FlowParams& p, const core::Profile& mantle, const core::Profile& concave);
+
+  const FlowParams& params() const { return p_; }
+  const Breakage& breakage() const { return breakage_; }
+  int bands() const { return p_.bands; }
+  int sectors() const { return p_.sectors; }
+  std::size_t cells() const { return speed_.size(); }
+  std::size_t classes() const { return breakage_.classes(); }
+  double loose_density() const { return rho0_; }
+  double cell_area(std::size_t k) const { return area_[k / p_.sectors]; }  // m^2 of concave
+  Eigen::Vector3d cell_point(std::size_t k) const;  // on the concave, concave liner frame (band 0 = bottom)
+
+  // Presses, breaks, moves and feeds the rock at the liners' pose (liner frame -> world) over h seconds.
+  FlowLoads step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave, const Eigen::Vector3d& com_mantle,
+                 const Eigen::Vector3d& com_concave, double h, double gravity);
+
+  // Adds rock to cell k (kg per class; no compressions yet). The DEM's fines in coupled runs; tests.
+  void deposit(std::size_t k, const std::vector<double>& class_kg);
+  double cell_mass(std::size_t k) const { return total_[k]; }
+  const double* cell_classes(std::size_t k) const { return &mass_[k * classes()]; }
+  double cell_pressure(std::size_t k) const { return pressure_[k]; }  // Pa at the last step
+  double cell_gap(std::size_t k) const { return gap_[k]; }            // m at the last step
+  double cell_compressions(std::size_t k) const { return count_[k]; }  // mean events of its rock
+  double mass_kg() const;                                              // in the chamber
+  double fed_kg() const { return fed_; }
+  double discharged_kg() const;
+  const std::vector<double>& discharged_by_class() const { return out_; }  // kg, cumulative
+  double crushing_energy_J() const { return energy_; }                     // booked by the events
+  long events() const { return events_; }  // compression events of at least 2 % so far
+  double product_compressions() const;  // mean compression events of the discharged rock
+  // Cumulative fraction passing each sieve of a mass-by-class vector (0..1).
+  std::vector<double> passing(const std::vector<double>& by_class) const;
+
+  void save_state(core::BinaryWriter& w) const;
+  void load_state(core::BinaryReader& r);  // same parameters; throws naming what differs
+
+ private:
+  FlowParams p_;
+  core::Profile mantle_;
+  Breakage breakage_;
+  double rho0_ = 0, z_lo_ = 0, dz_ = 0;
+  std::vector<double> area_, z_mid_, r_mid_, cos_, sin_, feed_share_;
+  std::vector<double> mass_;                            // cells x classes, kg
+  std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
+  std::vector<mbd::BedCell> memory_;
+  std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
+  std::vector<double> out_, pass_;  // discharged per class (cumulative); scratch
+  double fed_ = 0, energy_ = 0, out_count_ = 0;
+  long events_ = 0;
+  bool prefilled_ = false;
+
+  void move(std::size_t from, double* to, double kg, const double* class_share, double* to_count);
+  void fill(std::size_t k, double kg);  // loose feed
+  double sum_classes(std::size_t k) const;
+  void add(std::size_t k, const double* share, double scale, bool keep_speed);
+};
+
+}  // namespace chamber

@@ -1,0 +1,116 @@
+#include "nodes/mbd_node_flow.hpp"
+
+#include <inertia_crusher/ProductStream.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "dem/revolution.hpp"
+
+namespace nodes {
+namespace {
+
+std::vector<Eigen::Vector3d> triangle_list(const core::Profile& p, dem::NormalSide side) {
+  const auto mesh = dem::revolve_profile(dem::profile_points(p), 48, side);
+  std::vector<Eigen::Vector3d> v;
+  for (const auto& t : mesh.triangles())
+    for (int k : t) v.push_back(mesh.vertex(k));
+  return v;
+}
+
+geometry_msgs::Pose pose_of(const Eigen::Isometry3d& T) {
+  return to_pose(T.translation(), Eigen::Quaterniond(T.linear()));
+}
+
+visualization_msgs::Marker liner(const ros::Time& stamp, const std::string& ns, int id, const Eigen::Isometry3d& T,
+                                 const std::vector<Eigen::Vector3d>& tris, bool moving) {
+  visualization_msgs::Marker m;
+  m.header.stamp = stamp;
+  m.header.frame_id = "world";
+  m.ns = ns;
+  m.id = id;
+  m.type = visualization_msgs::Marker::TRIANGLE_LIST;
+  m.pose = pose_of(T);
+  m.scale.x = m.scale.y = m.scale.z = 1;
+  m.color.r = moving ? 0.75 : 0.55;
+  m.color.g = moving ? 0.55 : 0.6;
+  m.color.b = moving ? 0.3 : 0.7;
+  m.color.a = moving ? 1.0 : 0.35;
+  for (const auto& v : tris) m.points.push_back(to_point(v));
+  return m;
+}
+
+}  // namespace
+
+FlowOutputs::FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, double window_s)
+    : mantle_tris_(triangle_list(p.chamber.mantle, dem::NormalSide::Outward)),
+      concave_tris_(triangle_list(p.chamber.concave, dem::NormalSide::Inward)),
+      window_s_(window_s) {
+  pub_product_ = nh.advertise<inertia_crusher::ProductStream>("/crusher/product", 100);
+  pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
+  pub_cells_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/chamber", 2, true);
+}
+
+analysis::ProductSummary flow_product(const chamber::FlowModel& f, const std::vector<double>& by_class, double tph) {
+  analysis::ProductSummary s;
+  s.throughput_tph = tph;
+  s.mass_discharged_kg = std::accumulate(by_class.begin(), by_class.end(), 0.0);
+  const auto pass = f.passing(by_class);
+  for (std::size_t k = 0; k < pass.size(); ++k) {
+    s.sieve_mm.push_back(f.params().sieves_m[k] * 1e3);
+    s.passing_pct.push_back(100 * pass[k]);
+  }
+  return s;
+}
+
+void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f,
+                          BagRecorder& bag) {
+  const double t = stamp.toSec(), out = f.discharged_kg();
+  discharged_.emplace_back(t, out);
+  while (discharged_.size() > 2 && discharged_[1].first <= t - window_s_) discharged_.pop_front();
+  const auto& [t0, kg0] = discharged_.front();
+  const auto s = flow_product(f, f.discharged_by_class(), t > t0 ? (out - kg0) / (t - t0) * 3.6 : 0.0);
+  inertia_crusher::ProductStream p;
+  p.header.stamp = stamp;
+  p.header.frame_id = "world";
+  p.sieve_mm = s.sieve_mm;
+  p.passing_pct = s.passing_pct;
+  p.throughput_tph = s.throughput_tph;
+  p.mass_discharged_kg = out;
+  p.mass_fed_kg = f.fed_kg();
+  p.mass_in_chamber_kg = f.mass_kg();
+  p.mass_crushed_kg = 0;  // the flow model's rock is one continuum: none is "crushed to fines" apart from it
+  p.mass_fines_bed_kg = 0;
+  p.mass_lost_kg = 0;
+  pub_product_.publish(p);
+  bag.write("/crusher/product", stamp, p);
+
+  visualization_msgs::MarkerArray liners;
+  liners.markers.push_back(liner(stamp, "mantle", 0, m.liner_pose(mbd::BodyId::FloatingCone), mantle_tris_, true));
+  liners.markers.push_back(liner(stamp, "concave", 1, m.liner_pose(mbd::BodyId::FixedCone), concave_tris_, false));
+  pub_liners_.publish(liners);
+  bag.write("/crusher/liners", stamp, liners);
+
+  // Cells at their concave point, sized by fill and coloured by pressure on a fixed 0-10 MPa scale (blue to red).
+  visualization_msgs::Marker c;
+  c.header = p.header;
+  c.ns = "chamber_cells";
+  c.type = visualization_msgs::Marker::SPHERE_LIST;
+  c.pose = pose_of(m.liner_pose(mbd::BodyId::FixedCone));
+  c.scale.x = c.scale.y = c.scale.z = 0.015;
+  for (std::size_t k = 0; k < f.cells(); ++k) {
+    if (f.cell_mass(k) <= 0) continue;
+    c.points.push_back(to_point(f.cell_point(k)));
+    std_msgs::ColorRGBA col;
+    const double u = std::min(1.0, f.cell_pressure(k) / 10e6);
+    col.r = u, col.g = 0.3 * (1 - u), col.b = 1 - u, col.a = 1;
+    c.colors.push_back(col);
+  }
+  visualization_msgs::MarkerArray cells;
+  cells.markers.push_back(c);
+  pub_cells_.publish(cells);
+  bag.write("/crusher/chamber", stamp, cells);
+}
+
+}  // namespace nodes

@@ -1,0 +1,33 @@
+#pragma once
+// mbd_node's outputs in a flow run (run.load flow): the screened product of the chamber flow model on
+// /crusher/product, the liners on /crusher/liners and the chamber's cells (coloured by pressure) on /crusher/chamber.
+#include <ros/ros.h>
+
+#include <deque>
+#include <utility>
+
+#include "analysis/run_metrics.hpp"
+#include "chamber/flow_model.hpp"
+#include "mbd/mechanism.hpp"
+#include "nodes/ros_common.hpp"
+
+namespace nodes {
+
+class FlowOutputs {
+ public:
+  FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, double throughput_window_s = 1.0);
+  // Publishes and records the product (throughput over the last window), the liners at their pose and the cells.
+  void publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f, BagRecorder& bag);
+
+ private:
+  ros::Publisher pub_product_, pub_liners_, pub_cells_;
+  std::vector<Eigen::Vector3d> mantle_tris_, concave_tris_;  // triangle-list vertices in each liner frame
+  double window_s_;
+  std::deque<std::pair<double, double>> discharged_;  // (t, kg) history for the throughput window
+};
+
+// The flow model's product discharged in the window as summary.json reports it.
+analysis::ProductSummary flow_product(const chamber::FlowModel& f, const std::vector<double>& by_class,
+                                      double throughput_tph);
+
+}  // namespace nodes

@@ -1,0 +1,212 @@
+// Table 5 side by side, both speeds, from the shipped configs in the fast mode (the report behind
+// `crusher validate`): plant (EXP), the paper's simulation (SIM), ours, our error and the paper's error, for the mean
+// and std of amplitude and power, throughput and specific energy, plus P80, the product index and wall time; which
+// values were calibrated (400 rpm only), the trends of the paper's section 4.3. Writes DIR/validation.json.
+//   validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]
+// A report: exit 0 when both runs ran, whatever the errors.
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "analysis/flow_run.hpp"
+#include "chamber/flow_config.hpp"
+#include "core/run_config.hpp"
+#include "mbd/simulate.hpp"
+
+namespace {
+
+struct Row {
+  std::string key, label;
+  double exp400, sim400, exp600, sim600;  // Table 5 (NAN: not given)
+};
+const std::vector<Row> kRows = {
+    {"amplitude_x_mm_mean", "amplitude x, mean (mm)", 5.46, 5.25, 5.74, 5.57},
+    {"amplitude_x_mm_std", "amplitude x, std (mm)", 0.099, 0.121, 0.159, 0.136},
+    {"power_kW_mean", "power draw, mean (kW)", 76.8, 73.8, 146.2, 128.7},
+    {"power_kW_std", "power draw, std (kW)", 3.97, 3.12, 7.81, 6.79},
+    {"throughput_tph", "throughput (t/h)", 80.8, 84.4, 51.8, 63.7},
+    {"specific_energy_kWh_per_t", "specific energy (kWh/t)", 0.95, 0.87, 2.82, 2.02},
+    {"p80_mm", "P80 (mm)", NAN, NAN, NAN, NAN},
+    {"passing_12mm_pct", "passing 12 mm (%)", NAN, NAN, NAN, NAN},
+    {"passing_1mm_pct", "passing 1 mm (%)", NAN, NAN, NAN, NAN},
+    {"wall_s", "wall time (s)", NAN, NAN, NAN, NAN},
+};
+
+struct Case {
+  std::map<std::string, double> v;
+  double simulated_s = 0;
+};
+
+Case run_case(const std::string& file, const std::string& load, double seconds, double settle) {
+  auto root = core::ConfigNode::load_file(file);
+  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
+  if (root.has("run")) core::load_run_options(root.child("run"));
+  core::load_coupling_options(root.child_or_empty("coupling"));
+  root.ignore("dem");
+  root.finish();
+  Case c;
+  c.simulated_s = seconds + settle;
+  if (load == "flow") {
+    analysis::FlowRunOptions o;
+    o.duration_s = seconds;
+    o.settle_s = settle;
+    const auto r = analysis::run_flow(mech, flow, o);
+    const auto& s = r.summary;
+    const double tph = s.product->throughput_tph;
+    c.v = {{"amplitude_x_mm_mean", s.amplitude_x_mm.mean}, {"amplitude_x_mm_std", s.amplitude_x_mm.std},
+           {"power_kW_mean", s.power_kW.mean},           {"power_kW_std", s.power_kW.std},
+           {"throughput_tph", tph},                      {"specific_energy_kWh_per_t", tph > 0 ? s.power_kW.mean / tph : NAN},
+           {"p80_mm", r.p80_mm > 0 ? r.p80_mm : NAN},    {"passing_12mm_pct", r.passing_12mm_pct},
+           {"passing_1mm_pct", r.passing_1mm_pct},       {"wall_s", r.wall_s},
+           {"compressions", r.product_compressions},     {"chamber_kg", r.chamber_kg},
+           {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW}};
+  } else {
+    mbd::SimOptions o;
+    o.duration_s = seconds;
+    o.settle_s = settle;
+    o.load = load;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto rec = mbd::simulate(mech, o);
+    analysis::RunSignals sig{rec.t_s, rec.x_m, rec.y_m, rec.z_m, rec.power_W, rec.speed_rad_s};
+    const auto s = analysis::summarize(sig, mech.drive_speed_rad_s, 0.0);
+    c.v = {{"amplitude_x_mm_mean", s.amplitude_x_mm.mean}, {"amplitude_x_mm_std", s.amplitude_x_mm.std},
+           {"power_kW_mean", s.power_kW.mean}, {"power_kW_std", s.power_kW.std}, {"throughput_tph", NAN},
+           {"specific_energy_kWh_per_t", NAN}, {"p80_mm", NAN}, {"passing_12mm_pct", NAN}, {"passing_1mm_pct", NAN},
+           {"wall_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+  }
+  return c;
+}
+
+std::string num(double v, int nd = 3) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s.precision(nd + 3);
+  s << v;
+  return s.str();
+}
+std::string cell(double v, int nd = 2) {
+  if (!std::isfinite(v)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.*f", nd, v);
+  return b;
+}
+std::string pct(double ours, double ref) {
+  if (!std::isfinite(ours) || !std::isfinite(ref)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, "%+.1f%%", 100 * (ours / ref - 1));
+  return b;
+}
+double err(double ours, double ref) { return std::isfinite(ours) && std::isfinite(ref) ? ours / ref - 1 : NAN; }
+
+void usage() {
+  std::cerr << "usage: validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string c400, c600, out, load = "flow";
+  double seconds = 10, settle = 4;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help") return usage(), 0;
+    if (i + 1 >= argc) return usage(), 2;
+    const std::string v = argv[++i];
+    if (a == "--config400") c400 = v;
+    else if (a == "--config600") c600 = v;
+    else if (a == "--out") out = v;
+    else if (a == "--load") load = v;
+    else if (a == "--seconds") seconds = std::stod(v);
+    else if (a == "--settle") settle = std::stod(v);
+    else return usage(), 2;
+  }
+  if (c400.empty() || c600.empty() || out.empty()) return usage(), 2;
+  if (load != "flow" && load != "bed") {
+    std::cerr << "validate: --load '" << load << "' is not accepted; accepted: flow, bed\n";
+    return 2;
+  }
+  Case a, b;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    a = run_case(c400, load, seconds, settle);
+    b = run_case(c600, load, seconds, settle);
+  } catch (const std::exception& e) {
+    std::cerr << "validate: " << e.what() << "\n";
+    return 1;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Calibrated at 400 rpm (calibrate_flow for the flow load; the bed's modulus and viscosity for the bed load).
+  const std::vector<std::string> calibrated = load == "flow"
+      ? std::vector<std::string>{"amplitude_x_mm_mean", "power_kW_mean", "throughput_tph"}
+      : std::vector<std::string>{"amplitude_x_mm_mean", "power_kW_mean"};
+  auto is_cal = [&](const std::string& k) {
+    for (const auto& c : calibrated) if (c == k) return true;
+    return false;
+  };
+  std::printf("Table 5 (Cheng et al. 2020) against the %s mode; * calibrated at 400 rpm, 600 rpm never fitted\n",
+              load.c_str());
+  std::printf("%-28s | %8s %8s %9s %8s %8s | %8s %8s %8s %8s %8s\n", "quantity", "EXP400", "SIM400", "ours400",
+              "err", "paper", "EXP600", "SIM600", "ours600", "err", "paper");
+  for (const auto& r : kRows) {
+    const double o4 = a.v[r.key], o6 = b.v[r.key];
+    std::printf("%-28s | %8s %8s %8s%s %8s %8s | %8s %8s %8s %8s %8s\n", r.label.c_str(), cell(r.exp400).c_str(),
+                cell(r.sim400).c_str(), cell(o4).c_str(), is_cal(r.key) ? "*" : " ", pct(o4, r.exp400).c_str(),
+                pct(r.sim400, r.exp400).c_str(), cell(r.exp600).c_str(), cell(r.sim600).c_str(), cell(o6).c_str(),
+                pct(o6, r.exp600).c_str(), pct(r.sim600, r.exp600).c_str());
+  }
+  const bool index400 = a.v["passing_12mm_pct"] > 80 && a.v["passing_1mm_pct"] < 3;
+  const bool trend_power = b.v["power_kW_mean"] > a.v["power_kW_mean"];
+  const bool trend_tph = b.v["throughput_tph"] < a.v["throughput_tph"];
+  const bool trend_finer = b.v["p80_mm"] < a.v["p80_mm"];
+  std::printf("product index at 400 rpm (> 80 %% passing 12 mm, < 3 %% passing 1 mm): %s\n",
+              load != "flow" ? "n/a" : index400 ? "met" : "not met");
+  std::printf("trends 400 -> 600 rpm (section 4.3): power up %s, throughput down %s, product finer %s\n",
+              trend_power ? "yes" : "NO", load != "flow" ? "n/a" : trend_tph ? "yes" : "NO",
+              load != "flow" ? "n/a" : trend_finer ? "yes" : "NO");
+  std::printf("600 rpm rows closer to the plant than the paper's simulation: ");
+  for (const char* k : {"amplitude_x_mm_mean", "power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t"}) {
+    for (const auto& r : kRows)
+      if (r.key == k)
+        std::printf("%s %s  ", k, std::fabs(err(b.v[k], r.exp600)) < std::fabs(err(r.sim600, r.exp600)) ? "yes" : "no");
+  }
+  std::printf("\nwall time %.1f s for both speeds (%.0f simulated s each)\n", wall, a.simulated_s);
+
+  ::mkdir(out.c_str(), 0755);
+  std::ofstream j(out + "/validation.json");
+  j << "{\n  \"load\": \"" << load << "\",\n  \"config400\": \"" << c400 << "\",\n  \"config600\": \"" << c600
+    << "\",\n  \"simulated_s\": " << a.simulated_s << ",\n  \"settle_s\": " << settle << ",\n  \"rows\": [\n";
+  for (std::size_t i = 0; i < kRows.size(); ++i) {
+    const auto& r = kRows[i];
+    j << "    {\"quantity\": \"" << r.key << "\", \"label\": \"" << r.label << "\", \"exp400\": " << num(r.exp400)
+      << ", \"sim400\": " << num(r.sim400) << ", \"ours400\": " << num(a.v[r.key]) << ", \"calibrated400\": "
+      << (is_cal(r.key) ? "true" : "false") << ", \"error400\": " << num(err(a.v[r.key], r.exp400))
+      << ", \"paper_error400\": " << num(err(r.sim400, r.exp400)) << ", \"exp600\": " << num(r.exp600)
+      << ", \"sim600\": " << num(r.sim600) << ", \"ours600\": " << num(b.v[r.key])
+      << ", \"error600\": " << num(err(b.v[r.key], r.exp600)) << ", \"paper_error600\": " << num(err(r.sim600, r.exp600))
+      << "}" << (i + 1 < kRows.size() ? "," : "") << "\n";
+  }
+  j << "  ],\n  \"extra400\": {";
+  bool first = true;
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW"})
+    if (a.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(a.v[k]), first = false;
+  j << "},\n  \"extra600\": {";
+  first = true;
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW"})
+    if (b.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(b.v[k]), first = false;
+  j << "},\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
+    << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
+    << (load != "flow" ? "null" : trend_tph ? "true" : "false") << ", \"product_finer\": "
+    << (load != "flow" ? "null" : trend_finer ? "true" : "false") << "},\n"
+    << "  \"laws_added_for_600rpm\": [],\n  \"wall_s\": " << wall << "\n}\n";
+  std::printf("wrote %s/validation.json\n", out.c_str());
+  return 0;
+}

@@ -1,0 +1,260 @@
+// The chamber flow model (chamber/flow_model.hpp, breakage.hpp) against closed forms: the breakage matrices, one
+// compression event, action and reaction on the liners, the loop's work against the crushing energy booked, free
+// fall through an open chamber, lumps held by a gap narrower than themselves, the mass balance of a long run and a
+// bit-for-bit resume.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "chamber/flow_model.hpp"
+#include "core/binary_io.hpp"
+
+namespace {
+
+// Coaxial cylinders: the mantle r = 0.30 m, the concave r = 0.30 m + gap, z from -0.8 to -0.2 m (shared height).
+core::Profile cylinder(double r, double z0 = -0.9, double z1 = -0.1) {
+  core::Profile p;
+  p.z = {z0, z1};
+  p.r = {r, r};
+  return p;
+}
+
+chamber::FlowParams params(int bands, int sectors) {
+  chamber::FlowParams p;
+  p.bands = bands;
+  p.sectors = sectors;
+  p.prefill = false;
+  p.choke_feed = false;
+  return p;
+}
+
+Eigen::Isometry3d shifted(const Eigen::Vector3d& d) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = d;
+  return T;
+}
+
+const Eigen::Isometry3d kRest = Eigen::Isometry3d::Identity();
+const Eigen::Vector3d kComM(0, 0, -0.5), kComC(0, 0, -0.6);
+
+double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
+
+}  // namespace
+
+TEST(Breakage, MatricesConserveMassAndFollowTheirFunctions) {
+  chamber::BreakageParams bp;
+  const std::vector<double> sieves{1e-3, 2e-3, 4e-3, 8e-3, 16e-3, 31.5e-3, 63e-3};
+  chamber::Breakage br(sieves, bp);
+  ASSERT_EQ(br.classes(), sieves.size() + 1);
+  for (std::size_t j = 0; j < br.classes(); ++j) {
+    double col = 0;
+    for (std::size_t i = 0; i <= j; ++i) {
+      EXPECT_GE(br.b(i, j), 0.0);
+      col += br.b(i, j);
+    }
+    EXPECT_NEAR(col, 1.0, 1e-14) << "column " << j;
+  }
+  // Austin's cumulative form: class 3 (4-8 mm) from class 5 (16-31.5 mm), y = 31.5 mm.
+  auto B = [&](double u) { return bp.phi * std::pow(u, bp.gamma) + (1 - bp.phi) * std::pow(u, bp.beta); };
+  EXPECT_NEAR(br.b(3, 5), B(8 / 31.5) - B(4 / 31.5), 1e-14);
+  EXPECT_NEAR(br.b(0, 5), B(1 / 31.5), 1e-14);
+  // Selection: 1 - exp(-(s / s_c (x / x_ref)^-q)^m) at the class's geometric-mean size.
+  const double x5 = std::sqrt(16e-3 * 31.5e-3), sc = bp.s_c * std::pow(x5 / bp.x_ref, -bp.q);
+  EXPECT_NEAR(br.selection(5, 0.2), 1 - std::exp(-std::pow(0.2 / sc, bp.m)), 1e-14);
+  EXPECT_GT(br.selection(6, 0.2), br.selection(2, 0.2));  // coarser lumps are selected sooner
+  EXPECT_EQ(br.selection(4, 0.0), 0.0);
+  // One event: p = [B S + I - S] f, written out.
+  std::vector<double> f{0, 0, 1, 0, 2, 3, 4, 0}, p = f;
+  br.apply(0.25, p.data());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    double e = (1 - br.selection(i, 0.25)) * f[i];
+    for (std::size_t j = i; j < f.size(); ++j) e += br.b(i, j) * br.selection(j, 0.25) * f[j];
+    EXPECT_NEAR(p[i], e, 1e-13) << "class " << i;
+  }
+  EXPECT_NEAR(sum(p), sum(f), 1e-13);
+  EXPECT_THROW(chamber::Breakage({2e-3, 1e-3}, bp), std::invalid_argument);
+}
+
+TEST(FlowModel, RejectsBadParametersByName) {
+  auto p = params(4, 8);
+  p.material.rebound = 0;
+  try {
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+    FAIL() << "accepted rebound 0";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rebound"), std::string::npos) << e.what();
+  }
+  p = params(4, 8);
+  p.feed_passing.pop_back();
+  EXPECT_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)), std::invalid_argument);
+}
+
+// A cell full of loose rock at rest, pressed by a sideways shift of the mantle and released: one event whose
+// compression ratio the gap gives; the cell's classes afterwards are exactly the breakage of the feed at that ratio,
+// and the energy booked is the law's loop loss.
+TEST(FlowModel, OneCompressionEventBreaksTheClassesAsTheMatricesSay) {
+  auto p = params(6, 8);
+  chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+  const std::size_t k = 2 * 8 + 0;  // band 2, sector 0 (azimuth 22.5 deg)
+  const double g_rest = 0.05, A = m.cell_area(k), V0 = A * g_rest;
+  std::vector<double> feed(m.classes(), 0.0);
+  feed[m.classes() - 2] = 0.6 * V0 * m.loose_density();  // 50-63 mm
+  feed[m.classes() - 4] = 0.4 * V0 * m.loose_density();  // 31.5-40 mm
+  m.deposit(k, feed);
+  const double d = 0.012;  // mantle shifted 12 mm towards sector 0
+  m.step(shifted({d, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+  const double g = m.cell_gap(k), s = 1 - g / g_rest;
+  EXPECT_NEAR(g, std::hypot(0.35 * std::cos(M_PI / 8) - d, 0.35 * std::sin(M_PI / 8)) - 0.30, 1e-12);
+  const auto& mat = p.material;
+  EXPECT_NEAR(m.cell_pressure(k), mat.modulus_Pa * std::pow(s, mat.exponent), 1e-6 * mat.modulus_Pa);
+  EXPECT_EQ(m.events(), 0);
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);  // released: the event ends
+  EXPECT_EQ(m.events(), 1);
+  std::vector<double> expect = feed;
+  m.breakage().apply(s, expect.data());
+  for (std::size_t j = 0; j < m.classes(); ++j) EXPECT_NEAR(m.cell_classes(k)[j], expect[j], 1e-12) << "class " << j;
+  EXPECT_GT(expect[m.classes() - 3], 0.0);  // something did break
+  const double loss = V0 * (1 - mat.rebound) * mat.modulus_Pa * std::pow(s, mat.exponent + 1) / (mat.exponent + 1);
+  EXPECT_NEAR(m.crushing_energy_J(), loss, 1e-9 * loss);
+  EXPECT_NEAR(m.cell_compressions(k), 1.0, 1e-15);
+}
+
+// Forces: -F on the mantle at its point, F on the concave, F = p A n: the sums cancel, torques about one point
+// cancel, and the normal force is the sum of the cells' p A.
+TEST(FlowModel, LinerWrenchIsActionAndReactionOfTheCellPressures) {
+  auto p = params(6, 12);
+  p.prefill = true;
+  const auto mantle = cylinder(0.3), concave = cylinder(0.35, -0.8, -0.2);
+  chamber::FlowModel m(p, mantle, concave);
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);  // prefilled loose at rest: no pressure
+  Eigen::Isometry3d M = shifted({0.008, -0.003, 0.002});
+  M.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d(0.3, 1, 0).normalized()).toRotationMatrix();
+  const auto L = m.step(M, kRest, kComM, kComC, 1e-3, 0.0);
+  double pa = 0;
+  int pressed = 0;
+  for (std::size_t k = 0; k < m.cells(); ++k) pa += m.cell_pressure(k) * m.cell_area(k), pressed += m.cell_pressure(k) > 0;
+  ASSERT_GT(pressed, 4);
+  ASSERT_LT(pressed, static_cast<int>(m.cells()));
+  EXPECT_NEAR(L.normal_force, pa, 1e-9 * pa);
+  EXPECT_NEAR((L.f_mantle + L.f_concave).norm(), 0.0, 1e-9 * pa);
+  // Moments about the origin: each force's couple is along its own line, so the total vanishes.
+  const Eigen::Vector3d moment = L.t_mantle + kComM.cross(L.f_mantle) + L.t_concave + kComC.cross(L.f_concave);
+  EXPECT_NEAR(moment.norm(), 0.0, 1e-9 * pa);
+  // The concave is pushed away from the side the mantle moved to (+x), nearly radially.
+  EXPECT_GT(L.f_concave.x(), 0.5 * L.f_concave.norm());
+  EXPECT_GT(L.f_concave.norm(), 0.5 * pa);
+}
+
+// A prescribed close-open loop of the mantle: the work the liners do on the rock (forces x displacement, trapezoid)
+// equals the crushing energy the events booked.
+TEST(FlowModel, LoopWorkEqualsTheCrushingEnergyBooked) {
+  auto p = params(6, 16);
+  p.prefill = true;
+  chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+  const int n = 4000;
+  double work = 0;
+  Eigen::Vector3d x_prev = Eigen::Vector3d::Zero(), f_prev = Eigen::Vector3d::Zero();
+  for (int i = 1; i <= n; ++i) {
+    const double a = 0.010 * std::sin(M_PI * i / n);  // out to 10 mm and back
+    const Eigen::Vector3d x(a * std::cos(0.3), a * std::sin(0.3), 0);
+    const auto L = m.step(shifted(x), kRest, kComM, kComC, 1e-3, 0.0);
+    work += 0.5 * (L.f_mantle + f_prev).dot(x - x_prev) * -1.0;  // work done on the rock = -(force on mantle) . dx
+    x_prev = x, f_prev = L.f_mantle;
+  }
+  ASSERT_GT(m.events(), 3);
+  EXPECT_GT(work, 0.0);
+  EXPECT_NEAR(work, m.crushing_energy_J(), 0.01 * m.crushing_energy_J());
+}
+
+// An open chamber (gap 100 mm, wider than any lump), no feed: rock put in the top band falls out freely; half of
+// it has left at the free-fall time of the band's height, sqrt(2 H / g).
+TEST(FlowModel, RockFallsThroughAnOpenChamberInTheFreeFallTime) {
+  auto p = params(60, 4);
+  chamber::FlowModel m(p, cylinder(0.25), cylinder(0.35, -0.8, -0.2));
+  const std::size_t top = m.cells() - 4;
+  std::vector<double> lumps(m.classes(), 0.0);
+  lumps[m.classes() - 3] = 0.5;  // 40-50 mm, a third of the cell's loose capacity
+  m.deposit(top, lumps);
+  const double H = m.cell_point(top).z() - (-0.8), g = 9.81, h = 1e-4;
+  double t = 0, t_half = -1;
+  while (t < 1.0 && m.discharged_kg() < 0.5 - 1e-9) {
+    m.step(kRest, kRest, kComM, kComC, h, g);
+    t += h;
+    if (t_half < 0 && m.discharged_kg() >= 0.25) t_half = t;
+  }
+  EXPECT_NEAR(t_half, std::sqrt(2 * H / g), 0.05 * std::sqrt(2 * H / g));
+  EXPECT_NEAR(m.discharged_kg(), 0.5, 1e-9);
+  EXPECT_EQ(m.events(), 0);
+}
+
+// A still mantle: with a gap wider than the feed (80 mm) the choke feed passes whole and unbroken; with a gap of
+// 30 mm the lumps above 30 mm are held in the chamber and only smaller ones reach the product.
+TEST(FlowModel, AGapWiderThanTheFeedPassesItAndANarrowerOneHoldsTheLumps) {
+  for (double gap : {0.080, 0.030}) {
+    auto p = params(20, 4);
+    p.choke_feed = true;
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.3 + gap, -0.8, -0.2));
+    for (int i = 0; i < 20000; ++i) m.step(kRest, kRest, kComM, kComC, 2e-4, 9.81);
+    ASSERT_GT(m.discharged_kg(), 1.0) << gap;
+    EXPECT_EQ(m.events(), 0);
+    const auto out = m.discharged_by_class();
+    const auto pass = m.passing(out);
+    const auto& feed = p.feed_passing;
+    if (gap > 0.05) {
+      for (std::size_t k = 0; k < pass.size(); ++k) EXPECT_NEAR(pass[k], feed[k], 1e-9) << "sieve " << k;
+    } else {
+      for (std::size_t j = 0; j < m.classes(); ++j)
+        if (m.breakage().lower(j) >= gap) EXPECT_EQ(out[j], 0.0) << "class " << j;
+      EXPECT_GT(out[5], 0.0);  // 12-16 mm passes
+      double held = 0;  // lumps above the gap pile up in the chamber
+      for (std::size_t k = 0; k < m.cells(); ++k)
+        for (std::size_t j = 0; j < m.classes(); ++j)
+          if (m.breakage().lower(j) >= gap) held += m.cell_classes(k)[j];
+      EXPECT_GT(held, 0.5 * (1 - feed[7]) * m.mass_kg());
+    }
+  }
+}
+
+// A long run of a gyrating mantle (throw 8 mm, 7 Hz) on the shipped-like cone chamber with choke feed: rock is fed,
+// compressed, broken and discharged; feed = chamber + product to round-off, and a resumed copy stays bit for bit.
+TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
+  core::Profile mantle, concave;
+  mantle.z = {-0.715, -0.2};
+  mantle.r = {0.600, 0.168};
+  concave.z = {-0.760, -0.1};
+  concave.r = {0.662, 0.194};
+  chamber::FlowParams p;
+  p.bands = 20;
+  p.sectors = 12;
+  chamber::FlowModel m(p, mantle, concave);
+  const double h = 1e-3, w = 2 * M_PI * 7;
+  auto pose = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.014, Eigen::Vector3d(-std::sin(w * t), std::cos(w * t), 0)).toRotationMatrix();
+    return T;
+  };
+  int i = 0;
+  for (; i < 1500; ++i) m.step(pose(i * h), kRest, kComM, kComC, h, 9.81);
+  std::stringstream file;
+  core::BinaryWriter w0(file);
+  m.save_state(w0);
+  chamber::FlowModel copy(p, mantle, concave);
+  core::BinaryReader r0(file, "flow test checkpoint");
+  copy.load_state(r0);
+  for (int j = i; j < 3000; ++j) {
+    m.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
+    copy.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
+  }
+  EXPECT_GT(m.events(), 100);
+  EXPECT_GT(m.discharged_kg(), 10.0);
+  EXPECT_NEAR(m.fed_kg(), m.mass_kg() + m.discharged_kg(), 1e-9 * m.fed_kg());
+  EXPECT_EQ(m.mass_kg(), copy.mass_kg());
+  EXPECT_EQ(m.discharged_by_class(), copy.discharged_by_class());
+  EXPECT_EQ(m.crushing_energy_J(), copy.crushing_energy_J());
+  // The product is finer than the feed: the events broke lumps.
+  const auto out = m.passing(m.discharged_by_class());
+  EXPECT_GT(out[4], p.feed_passing[4] + 0.05);  // 12 mm
+}
