@@ -97,25 +97,4 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   return r;
 }
 
-double passing_size_mm(const std::vector<double>& x, const std::vector<double>& p, double pct) {
-  for (std::size_t k = 1; k < x.size(); ++k)
-    if (p[k - 1] < pct && p[k] >= pct) {
-      const double f = (pct - p[k - 1]) / (p[k] - p[k - 1]);
-      return std::exp(std::log(x[k - 1]) + f * (std::log(x[k]) - std::log(x[k - 1])));
-    }
-  if (!p.empty() && p.front() >= pct) return x.front();
-  return -1;
-}
-
-double passing_at_mm(const std::vector<double>& x, const std::vector<double>& p, double xq) {
-  if (x.empty()) return 0;
-  if (xq <= x.front()) return p.front();
-  for (std::size_t k = 1; k < x.size(); ++k)
-    if (xq <= x[k]) {
-      const double f = (std::log(xq) - std::log(x[k - 1])) / (std::log(x[k]) - std::log(x[k - 1]));
-      return p[k - 1] + f * (p[k] - p[k - 1]);
-    }
-  return p.back();
-}
-
 }  // namespace analysis

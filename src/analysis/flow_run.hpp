@@ -33,10 +33,4 @@ struct FlowRunResult {
 
 FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowParams& flow, const FlowRunOptions& o);
 
-// Size (mm) at which the cumulative passing (ascending sieves, percent) crosses `pct`, interpolated linearly in
-// log size between sieves; null-like -1 when it is not crossed inside the sieves.
-double passing_size_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double pct);
-// Passing (%) at size x_mm, interpolated the same way (0 below the finest sieve's passing... clamped).
-double passing_at_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double x_mm);
-
 }  // namespace analysis

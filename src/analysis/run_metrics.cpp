@@ -99,6 +99,27 @@ RunSummary summarize(const RunSignals& s, double speed, double t_from) {
   return r;
 }
 
+double passing_size_mm(const std::vector<double>& x, const std::vector<double>& p, double pct) {
+  for (std::size_t k = 1; k < x.size(); ++k)
+    if (p[k - 1] < pct && p[k] >= pct) {
+      const double f = (pct - p[k - 1]) / (p[k] - p[k - 1]);
+      return std::exp(std::log(x[k - 1]) + f * (std::log(x[k]) - std::log(x[k - 1])));
+    }
+  if (!p.empty() && p.front() >= pct) return x.front();
+  return -1;
+}
+
+double passing_at_mm(const std::vector<double>& x, const std::vector<double>& p, double xq) {
+  if (x.empty()) return 0;
+  if (xq <= x.front()) return p.front();
+  for (std::size_t k = 1; k < x.size(); ++k)
+    if (xq <= x[k]) {
+      const double f = (std::log(xq) - std::log(x[k - 1])) / (std::log(x[k]) - std::log(x[k - 1]));
+      return p[k - 1] + f * (p[k] - p[k - 1]);
+    }
+  return p.back();
+}
+
 std::string to_json(const RunSummary& s) {
   std::ostringstream o;
   o << std::setprecision(8);
@@ -124,8 +145,18 @@ std::string to_json(const RunSummary& s) {
     o << ", \"passing_pct\": ";
     json_array(o, p.passing_pct);
     o << "},\n";
+    const double p80 = passing_size_mm(p.sieve_mm, p.passing_pct, 80);
+    const bool any = p.mass_discharged_kg > 0 && !p.sieve_mm.empty();
+    o << "  \"p80_mm\": ";
+    if (any && p80 > 0) o << p80; else o << "null";
+    o << ",\n  \"passing_12mm_pct\": ";
+    if (any) o << passing_at_mm(p.sieve_mm, p.passing_pct, 12); else o << "null";
+    o << ",\n  \"passing_1mm_pct\": ";
+    if (any) o << passing_at_mm(p.sieve_mm, p.passing_pct, 1); else o << "null";
+    o << ",\n";
   } else {
-    o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"psd\": null,\n";
+    o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"psd\": null,\n"
+      << "  \"p80_mm\": null,\n  \"passing_12mm_pct\": null,\n  \"passing_1mm_pct\": null,\n";
   }
   o << "  \"simulated_s\": " << s.simulated_s << ",\n";
   o << "  \"wall_s\": " << s.wall_s << "\n}\n";

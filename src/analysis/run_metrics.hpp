@@ -42,6 +42,13 @@ struct RunSummary {
 // Summary over t >= t_from (settling excluded). Amplitudes in mm, power in kW.
 RunSummary summarize(const RunSignals& s, double drive_speed_rad_s, double t_from);
 
+// Size (mm) at which the cumulative passing (ascending sieves, percent) crosses `pct`, interpolated linearly in
+// log size between sieves; -1 when it is not crossed inside the sieves.
+double passing_size_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double pct);
+// Passing (%) at size x_mm, interpolated the same way (clamped to the end sieves' values outside them).
+double passing_at_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double x_mm);
+
+
 // summary.json as DESIGN.md specifies; fields that need particles are null without a product.
 std::string to_json(const RunSummary& s);
 

@@ -190,6 +190,30 @@ TEST(FlowModel, RockFallsThroughAnOpenChamberInTheFreeFallTime) {
   EXPECT_EQ(m.events(), 0);
 }
 
+// Evertsson's flow law: rock in an open cell (gap 100 mm, no pressure) does not fall while the mantle closes the gap
+// on it, and falls once the gap opens.
+TEST(FlowModel, RockIsHeldWhileTheGapClosesAndFallsWhileItOpens) {
+  auto p = params(10, 1);
+  chamber::FlowModel m(p, cylinder(0.25), cylinder(0.35, -0.8, -0.2));
+  std::vector<double> lumps(m.classes(), 0.0);
+  lumps[m.classes() - 4] = 0.2;  // 31.5-40 mm, far below the cell's loose capacity: never pressed
+  const std::size_t k = 5;       // band 5 of 10, its one sector at azimuth 180 deg
+  m.deposit(k, lumps);
+  const double h = 1e-3;
+  m.step(kRest, kRest, kComM, kComC, h, 9.81);  // the reference gap (a still mantle: the rock starts to fall)
+  const double start = m.cell_mass(k);
+  for (int i = 1; i <= 200; ++i)  // the mantle moves towards the cell (-x): the gap closes from 100 to 60 mm
+    m.step(shifted({-0.04 * i / 200.0, 0, 0}), kRest, kComM, kComC, h, 9.81);
+  EXPECT_EQ(m.cell_mass(k), start);
+  EXPECT_EQ(m.cell_pressure(k), 0.0);
+  EXPECT_EQ(m.discharged_kg(), 0.0);
+  for (int i = 199; i >= 150; --i)  // back out: the gap opens, the rock falls from rest
+    m.step(shifted({-0.04 * i / 200.0, 0, 0}), kRest, kComM, kComC, h, 9.81);
+  const double t = 0.05, fell = 0.5 * 9.81 * t * t;  // 12 mm in 50 ms: about a fifth of the 60 mm band
+  EXPECT_LT(m.cell_mass(k), start - 0.1 * fell / 0.06 * start);
+  EXPECT_GT(m.cell_mass(k), start - 0.6 * start);
+}
+
 // A still mantle: with a gap wider than the feed (80 mm) the choke feed passes whole and unbroken; with a gap of
 // 30 mm the lumps above 30 mm are held in the chamber and only smaller ones reach the product.
 TEST(FlowModel, AGapWiderThanTheFeedPassesItAndANarrowerOneHoldsTheLumps) {
