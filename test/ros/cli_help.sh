@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Every subcommand of scripts/crusher answers --help with its usage (exit 0, the subcommand named), without
+# building or installing anything; an unknown subcommand is refused naming the accepted ones.
+set -euo pipefail
+crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
+for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording build setup env; do
+  text=$(bash "$crusher" "$sub" --help) || { echo "FAIL: crusher $sub --help exited non-zero"; exit 1; }
+  grep -q "^usage:" <<<"$text" || { echo "FAIL: crusher $sub --help printed no usage: $text"; exit 1; }
+  grep -q "crusher .*$sub" <<<"$text" || { echo "FAIL: crusher $sub --help does not name $sub: $text"; exit 1; }
+done
+bash "$crusher" --help | grep -q "crusher validate" || { echo "FAIL: crusher --help lacks validate"; exit 1; }
+if msg=$(bash "$crusher" frobnicate 2>&1); then echo "FAIL: an unknown subcommand was accepted"; exit 1; fi
+grep -q "accepted: demo" <<<"$msg" || { echo "FAIL: unknown subcommand message: $msg"; exit 1; }
+echo "every subcommand answers --help"
