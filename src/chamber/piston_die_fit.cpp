@@ -104,11 +104,12 @@ void fit_breakage(const PistonDieResult& r, FlowMaterial& m) {
   auto unpack = [&](const std::vector<double>& u) {
     BreakageParams b = b0;
     std::size_t k = 0;
-    b.s_c = std::exp(u[k++]);
-    if (fit_m) b.m = std::exp(u[k++]);
+    // bounded: s_c in (0.01, 5), m in (0.3, 10), q in (0, 3), phi in (0, 1), gamma in (0.1, 10)
+    b.s_c = 0.01 + 4.99 * logistic(u[k++]);
+    if (fit_m) b.m = 0.3 + 9.7 * logistic(u[k++]);
     if (fit_q) b.q = 3.0 * logistic(u[k++]);
     b.phi = logistic(u[k++]);
-    b.gamma = std::exp(u[k++]);
+    b.gamma = 0.1 + 9.9 * logistic(u[k++]);
     return b;
   };
   auto sse = [&](const BreakageParams& b) {
@@ -119,11 +120,11 @@ void fit_breakage(const PistonDieResult& r, FlowMaterial& m) {
     }
     return e;
   };
-  std::vector<double> u0{std::log(b0.s_c)};
-  if (fit_m) u0.push_back(std::log(b0.m));
+  std::vector<double> u0{logit((b0.s_c - 0.01) / 4.99)};
+  if (fit_m) u0.push_back(logit((b0.m - 0.3) / 9.7));
   if (fit_q) u0.push_back(logit(b0.q / 3.0));
   u0.push_back(logit(b0.phi));
-  u0.push_back(std::log(b0.gamma));
+  u0.push_back(logit((b0.gamma - 0.1) / 9.9));
   double best = 1e300;
   std::vector<double> ubest = u0;
   for (double start : {0.0, -0.7, 0.7}) {  // restarts from shifted s_c

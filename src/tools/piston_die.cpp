@@ -23,12 +23,13 @@ struct Args {
   bool quick = false;
   int threads = 1;
   unsigned long long seed = 1;
+  double dt_safety = 0.0;  // 0: the library's default
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "piston_die: %s\nusage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] "
-               "[--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
+               "[--dt-safety X] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
                "or 0/1) fitted instead of the DEM test\n",
                why.c_str());
   std::exit(2);
@@ -57,8 +58,14 @@ Args parse(int argc, char** argv) {
     else if (s == "--quick") a.quick = true;
     else if (s == "--threads") a.threads = static_cast<int>(integer(s, value(), 1, 256));
     else if (s == "--seed") a.seed = static_cast<unsigned long long>(integer(s, value(), 1, 1000000000));
-    else if (s == "-h" || s == "--help") usage("help");
-    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --lab)");
+    else if (s == "--dt-safety") {
+      const std::string v = value();
+      char* end = nullptr;
+      a.dt_safety = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
+        usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
+    } else if (s == "-h" || s == "--help") usage("help");
+    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --lab)");
   }
   if (a.out.empty()) usage("--out DIR is required");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");
@@ -112,10 +119,11 @@ int run_dem(const Args& a) {
   o.threads = a.threads;
   o.seed = a.seed;
   o.verbose = true;
+  if (a.dt_safety > 0) o.dt_safety = a.dt_safety;
   if (a.quick) {  // a small die: minutes become seconds, the numbers are not representative
     o.die_diameter = 0.10;
     o.rock_min = 0.028, o.rock_max = 0.032;
-    o.rock_count = 8;
+    o.rock_count = 18;
     o.piston_speed = 0.4;
   }
   const chamber::PistonDieResult r = chamber::run_piston_die(bpm, o);

@@ -57,9 +57,11 @@ TEST(PistonDieFit, ReboundFitReproducesSyntheticHystereticLoops) {
   double rms = -1;
   EXPECT_NEAR(fit_rebound(E, n, D, loss, &rms), rebound, 2e-4);
   EXPECT_GE(rms, 0.0);
-  // a wrong law fails: twice the losses is another rebound
-  for (double& l : loss) l *= 2;
-  EXPECT_LT(fit_rebound(E, n, D, loss), rebound - 0.3);
+  // other losses, another rebound: half the loss recovers 1 - (1 - rebound) / 2; more than the loading work: 0
+  for (double& l : loss) l *= 0.5;
+  EXPECT_NEAR(fit_rebound(E, n, D, loss), 1.0 - 0.5 * (1.0 - rebound), 2e-4);
+  for (double& l : loss) l *= 4.0;
+  EXPECT_EQ(fit_rebound(E, n, D, loss), 0.0);
 }
 
 TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
@@ -108,8 +110,8 @@ TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
   EXPECT_NEAR(m.modulus, 80e6, 80e6 * 1e-6);
   EXPECT_NEAR(m.exponent, 2.5, 1e-6);
   EXPECT_NEAR(m.max_compression, 0.3, 1e-12);
-  EXPECT_GT(m.rebound, 0.0);
-  EXPECT_LT(m.rebound, 0.2);
+  // unloading from 0.3 to 0.264, p linear to 0: recovers 0.018 p_max of the 0.3 p_max / 3.5 loading work
+  EXPECT_NEAR(m.rebound, 0.018 * 3.5 / 0.3, 0.005);
   {
     std::ofstream out(f);
     out << "s,p_MPa\n0,0\n0.1,x\n";
@@ -142,17 +144,18 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
   const auto t0 = std::chrono::steady_clock::now();
   const rocks::BpmModel bpm = rocks::load_bpm_model(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/bpm_calibrated.yaml");
   PistonDieOptions o;
-  o.die_diameter = 0.07;
-  o.rock_min = 0.016, o.rock_max = 0.0224;
-  o.rock_count = 10;
+  o.die_diameter = 0.10;
+  o.rock_min = 0.028, o.rock_max = 0.032;  // the smallest the BPM's 16 mm metaparticles pack
+  o.rock_count = 18;  // two to three layers: fewer make a bed of lone towers whose pressure comes and goes
   o.compression_ratios = {0.15, 0.3};
   o.piston_speed = 0.5;
   o.settle_max_time = 0.15;
   o.threads = 1;
   o.seed = 3;
+  o.dt_safety = 0.8;  // the platen test's margin: faster; this bed does not blow up with it
   const PistonDieResult r = run_piston_die(bpm, o);
   ASSERT_EQ(r.loops.size(), 2u);
-  EXPECT_EQ(r.rocks, 10);
+  EXPECT_EQ(r.rocks, 18);
   EXPECT_GT(r.loose_solid_fraction, 0.2);
   EXPECT_LT(r.loose_solid_fraction, 0.75);
   for (const auto& L : r.loops) {
@@ -163,15 +166,16 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
     EXPECT_LT(L.mass_error, 1e-12);  // fragments hold every particle
     EXPECT_GE(L.fragments, r.rocks);
   }
-  // pressure rises with s on loading: mean p over successive s bins increases
+  // pressure rises with s on loading: mean p over successive s bins (0.1 wide: a loose bed of brittle rocks has
+  // local drops where a rock fails) increases
   const auto& deep = r.loops.back();
-  std::vector<double> sum(6, 0.0), cnt(6, 0.0);
+  std::vector<double> sum(3, 0.0), cnt(3, 0.0);
   for (std::size_t k = 0; k < deep.s.size(); ++k)
     if (deep.phase[k] == 0 && deep.s[k] > 0.0) {
-      const int b = std::min(5, static_cast<int>(deep.s[k] / 0.05));
+      const int b = std::min(2, static_cast<int>(deep.s[k] / 0.1));
       sum[b] += deep.p[k], cnt[b] += 1;
     }
-  for (int b = 1; b < 6; ++b) {
+  for (int b = 1; b < 3; ++b) {
     ASSERT_GT(cnt[b], 0);
     EXPECT_GT(sum[b] / cnt[b], sum[b - 1] / cnt[b - 1]) << "bin " << b;
   }
