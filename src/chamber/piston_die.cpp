@@ -134,6 +134,7 @@ void PistonDieOptions::validate() const {
     bad("settle times: accepted 0 <= settle_min_time <= settle_max_time <= 10 s");
   if (!(settle_speed > 0.0)) bad("settle_speed: accepted > 0 m/s");
   if (!(dt_safety > 0.0 && dt_safety <= 1.0)) bad("dt_safety: accepted (0, 1]");
+  if (!(max_overlap_fraction > 0.0 && max_overlap_fraction <= 1.0)) bad("max_overlap_fraction: accepted (0, 1]");
   if (!(unload_stop_ratio > 0.0 && unload_stop_ratio < 0.5)) bad("unload_stop_ratio: accepted (0, 0.5)");
   if (record_every < 1) bad("record_every: accepted >= 1");
   if (!(resolve_diameters >= 1.0)) bad("resolve_diameters: accepted >= 1");
@@ -246,6 +247,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   wp.materials = dem::default_table4();
   wp.dt = 1e-7;  // set below from the particles and bonds
   wp.check_time_step = true;
+  wp.max_overlap_fraction = o.max_overlap_fraction;
   const double column = z_top + o.rock_max;
   Die die = make_die(wp, R, column, o.threads);
   dem::World& w = *die.world;

@@ -152,7 +152,6 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
   o.settle_max_time = 0.15;
   o.threads = 1;
   o.seed = 3;
-  o.dt_safety = 0.8;  // the platen test's margin: faster; this bed does not blow up with it
   const PistonDieResult r = run_piston_die(bpm, o);
   ASSERT_EQ(r.loops.size(), 2u);
   EXPECT_EQ(r.rocks, 18);
