@@ -190,7 +190,10 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
   EXPECT_GT(finer, 0.02);
   const FlowMaterial m = fit_flow_material(r);
   EXPECT_GT(m.exponent, 1.0);  // a stiffening bed
-  EXPECT_GT(m.rebound, 0.0);
+  // the DEM bed recovers a small part of the loading work; the law's rebound (fitted to the loop energies against
+  // the power law's loading work, which a lumpy loose-bed curve may undershoot) is then small, possibly clipped to 0
+  EXPECT_GT(1.0 - deep.loop_energy / deep.loading_work, 0.01);
+  EXPECT_GE(m.rebound, 0.0);
   EXPECT_LT(m.rebound, 0.6);
   EXPECT_NEAR(m.max_compression, deep.s_reached, 1e-12);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
