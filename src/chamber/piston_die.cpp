@@ -1,0 +1,367 @@
+// Virtual piston-die test on dem::World (see piston_die.hpp).
+#include "chamber/piston_die.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "core/binary_io.hpp"
+#include "dem/fragments.hpp"
+#include "dem/mesh_contact.hpp"
+#include "dem/revolution.hpp"
+#include "dem/world.hpp"
+#include "rocks/packing.hpp"
+#include "rocks/rng.hpp"
+#include "rocks/shape.hpp"
+
+namespace chamber {
+namespace {
+
+constexpr int kRock = 0, kSteel = 1;  // dem::default_table4()
+constexpr int kDieSectors = 48;
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct FeedRock {
+  rocks::RockPacking pack;
+  double sphere_density = 0.0;  // kg/m^3
+};
+
+// One irregular rock packed with the BPM's metaparticles; like coupling::ChamberDem, a shape too small for the
+// packing density steps it down by 0.03 (to 0.30 at least) rather than fail.
+// A shape thinner than the largest metaparticle cannot be packed: such a seed is skipped for the next one.
+rocks::RockPacking pack_rock(const rocks::BpmModel& bpm, unsigned long long seed, double size) {
+  const double dmax = 2.0 * bpm.metaparticles.max_radius();
+  std::unique_ptr<rocks::PolyhedronShape> shape;
+  for (int t = 0;; ++t, seed += 1000003ULL) {
+    shape = rocks::make_irregular_rock(seed, size, 22, "rock" + std::to_string(seed));
+    if ((shape->max_corner() - shape->min_corner()).minCoeff() >= dmax) break;
+    if (t == 50)
+      throw std::invalid_argument("piston die: rock size " + std::to_string(size * 1e3) +
+                                  " mm is too small for the BPM's metaparticles (largest diameter " +
+                                  std::to_string(dmax * 1e3) + " mm); accepted rock_min >= about 1.8 x that");
+  }
+  rocks::PackingOptions po = bpm.packing;
+  po.seed = seed;
+  for (;;) {
+    try {
+      return rocks::pack_shape(*shape, bpm.metaparticles, po);
+    } catch (const std::runtime_error&) {
+      if (po.density <= 0.3 + 1e-9) throw;
+      po.density = std::max(0.3, po.density - 0.03);
+    }
+  }
+}
+
+Eigen::Quaterniond random_orientation(rocks::Rng& rng) {
+  Eigen::Quaterniond q(rng.normal(), rng.normal(), rng.normal(), rng.normal());
+  return q.normalized();
+}
+
+// Mass fraction passing each sieve (m) of the fragments over intact bonds.
+std::vector<double> fragment_passing(const dem::World& w, const std::vector<double>& sieves, double* total,
+                                     int* count) {
+  const auto frags = dem::Fragments::from_bonds(w.particles(), w.bonds()).info(w.particles());
+  std::vector<double> pass(sieves.size(), 0.0);
+  double m = 0.0;
+  for (const auto& f : frags) {
+    m += f.mass;
+    for (std::size_t k = 0; k < sieves.size(); ++k)
+      if (f.sieve_size <= sieves[k] * (1.0 + 1e-12)) pass[k] += f.mass;
+  }
+  for (double& x : pass) x = m > 0 ? x / m : 0.0;
+  if (total) *total = m;
+  if (count) *count = static_cast<int>(frags.size());
+  return pass;
+}
+
+// The die: steel floor (plane 0), die wall (mesh), piston (plane 1). The same calls build the copy a
+// checkpoint is loaded into.
+struct Die {
+  std::unique_ptr<dem::World> world;
+  std::shared_ptr<dem::MeshContact> wall;
+  int floor = -1, piston = -1;
+};
+
+Die make_die(const dem::WorldParams& wp, double radius, double height, int threads) {
+  Die d;
+  d.world = std::make_unique<dem::World>(wp);
+  const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, top[3] = {0, 0, height}, down[3] = {0, 0, -1};
+  d.floor = d.world->add_plane(o, up, kSteel);
+  d.piston = d.world->add_plane(top, down, kSteel);
+  auto mesh = dem::revolve_profile({{-0.01, radius}, {height + 0.01, radius}}, kDieSectors, dem::NormalSide::Inward,
+                                   0.0, "die");
+  d.wall = std::make_shared<dem::MeshContact>(std::move(mesh), wp.materials, kSteel);
+  d.wall->set_threads(threads);
+  d.wall->set_pose(dem::Pose{});
+  d.world->add_interaction(d.wall);
+  return d;
+}
+
+}  // namespace
+
+const std::vector<double>& flow_sieves_mm() {
+  static const std::vector<double> s{1, 2, 4, 8, 12, 16, 22.4, 31.5, 40, 50, 63};
+  return s;
+}
+
+void PistonDieOptions::validate() const {
+  auto bad = [](const std::string& what) { throw std::invalid_argument("piston die: " + what); };
+  if (!(rock_min > 0.0 && rock_max >= rock_min && rock_max <= 0.2))
+    bad("rock sizes: accepted 0 < rock_min <= rock_max <= 200 mm");
+  if (!(die_diameter >= 3.0 * rock_max && die_diameter <= 2.0))
+    bad("die_diameter " + std::to_string(die_diameter * 1e3) + " mm: accepted >= 3 x rock_max (" +
+        std::to_string(3e3 * rock_max) + " mm) and <= 2000 mm");
+  if (rock_count < 0 || rock_count > 100000) bad("rock_count: accepted 0 (fill bed_height) to 100000");
+  if (rock_count == 0 && !(bed_height >= rock_max && bed_height <= 5.0))
+    bad("bed_height: with rock_count 0, accepted rock_max <= bed_height <= 5 m");
+  if (!(rock_density >= 500.0 && rock_density <= 20000.0)) bad("rock_density: accepted 500-20000 kg/m^3");
+  if (compression_ratios.empty()) bad("compression_ratios: at least one is needed");
+  for (std::size_t k = 0; k < compression_ratios.size(); ++k) {
+    const double s = compression_ratios[k];
+    if (!(s > 0.0 && s <= 0.6)) bad("compression ratio " + std::to_string(s) + ": accepted (0, 0.6]");
+    if (k && !(s > compression_ratios[k - 1])) bad("compression_ratios: accepted strictly ascending values");
+  }
+  if (!(piston_speed > 0.0 && piston_speed <= 5.0)) bad("piston_speed: accepted (0, 5] m/s");
+  if (!(settle_min_time >= 0.0 && settle_max_time >= settle_min_time && settle_max_time <= 10.0))
+    bad("settle times: accepted 0 <= settle_min_time <= settle_max_time <= 10 s");
+  if (!(settle_speed > 0.0)) bad("settle_speed: accepted > 0 m/s");
+  if (!(dt_safety > 0.0 && dt_safety <= 1.0)) bad("dt_safety: accepted (0, 1]");
+  if (!(max_overlap_fraction > 0.0 && max_overlap_fraction <= 1.0)) bad("max_overlap_fraction: accepted (0, 1]");
+  if (!(unload_stop_ratio > 0.0 && unload_stop_ratio < 0.5)) bad("unload_stop_ratio: accepted (0, 0.5)");
+  if (record_every < 1) bad("record_every: accepted >= 1");
+  if (!(resolve_diameters >= 1.0)) bad("resolve_diameters: accepted >= 1");
+  if (threads < 1 || threads > 256) bad("threads: accepted 1-256");
+}
+
+PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOptions& o) {
+  o.validate();
+  const auto t0 = Clock::now();
+  PistonDieResult res;
+  const double R = 0.5 * o.die_diameter;
+  res.die_diameter = o.die_diameter;
+  res.die_area = M_PI * R * R;
+  res.solid_density = o.rock_density;
+  std::vector<double> sieves;
+  for (double mm : flow_sieves_mm()) sieves.push_back(mm * 1e-3);
+  double dmean = 0.0;  // volume-mean metaparticle diameter
+  for (const auto& m : bpm.metaparticles.modes()) dmean += 2.0 * m.mean_radius * m.volume_fraction;
+  res.metaparticle_diameter = dmean;
+  res.min_resolved = 0.0;
+  for (double a : sieves)
+    if (a >= o.resolve_diameters * dmean) {
+      res.min_resolved = a;
+      break;
+    }
+
+  // ---- the feed: irregular rocks of log-uniform nominal size (section 2.4.1 shapes, BPM metaparticles)
+  rocks::Rng rng(o.seed);
+  std::vector<FeedRock> feed;
+  double rock_volume = 0.0;
+  const double fill_volume = 0.5 * res.die_area * o.bed_height;  // rock_count 0: a loose bed of ~0.5 solid
+  for (int k = 0;; ++k) {
+    if (o.rock_count > 0 ? k >= o.rock_count : rock_volume >= fill_volume) break;
+    const double size = std::exp(std::log(o.rock_min) + rng.uniform() * std::log(o.rock_max / o.rock_min));
+    FeedRock fr;
+    fr.pack = pack_rock(bpm, o.seed * 7919ULL + 17ULL * k + 1ULL, size);
+    // The rock weighs rho V of its envelope (the flow model's solid density), as feed.rock_density does.
+    fr.sphere_density = o.rock_density * fr.pack.container_volume / fr.pack.solid_volume();
+    rock_volume += fr.pack.container_volume;
+    feed.push_back(std::move(fr));
+  }
+  res.rocks = static_cast<int>(feed.size());
+
+  // ---- loose pouring, part 1: random sequential placement, each rock at the lowest free layer
+  const double r_in = R * std::cos(M_PI / kDieSectors) - 1e-4;  // the facets' inscribed radius, less a margin
+  double rmax = 0.0;
+  for (const auto& f : feed)
+    for (double r : f.pack.radii) rmax = std::max(rmax, r);
+  const double cell = 2.0 * rmax;
+  auto key = [cell](const Eigen::Vector3d& x) {
+    const long long i = static_cast<long long>(std::floor(x.x() / cell)) + (1 << 20);
+    const long long j = static_cast<long long>(std::floor(x.y() / cell)) + (1 << 20);
+    const long long l = static_cast<long long>(std::floor(x.z() / cell)) + (1 << 20);
+    return (i << 42) | (j << 21) | l;
+  };
+  std::unordered_map<long long, std::vector<std::pair<Eigen::Vector3d, double>>> grid;
+  auto clear = [&](const Eigen::Vector3d& x, double r) {
+    if (x.z() < r + 1e-5 || std::hypot(x.x(), x.y()) + r > r_in) return false;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find(key(x + Eigen::Vector3d(dx, dy, dz) * cell));
+          if (it == grid.end()) continue;
+          for (const auto& [y, ry] : it->second)
+            if ((x - y).squaredNorm() < (r + ry) * (r + ry)) return false;
+        }
+    return true;
+  };
+  struct Placed {
+    std::vector<Eigen::Vector3d> x;
+  };
+  std::vector<Placed> placed(feed.size());
+  const double dz = 0.1 * o.rock_min;
+  double z_top = 0.0, z_layer0 = 0.0;
+  for (std::size_t k = 0; k < feed.size(); ++k) {
+    const auto& rk = feed[k].pack;
+    bool done = false;
+    for (double zc = z_layer0; !done; zc += dz) {
+      if (zc > 1e3 * o.die_diameter) throw std::runtime_error("piston die: cannot place rock " + std::to_string(k));
+      int misses = 0;
+      for (int t = 0; t < 40 && !done; ++t) {
+        const double phi = 2.0 * M_PI * rng.uniform(), rr = R * std::sqrt(rng.uniform());
+        const Eigen::Vector3d c(rr * std::cos(phi), rr * std::sin(phi), zc);
+        const Eigen::Quaterniond q = random_orientation(rng);
+        std::vector<Eigen::Vector3d> xs;
+        bool ok = true;
+        for (std::size_t i = 0; i < rk.size() && ok; ++i) {
+          xs.push_back(c + q * rk.positions[i]);
+          ok = clear(xs.back(), rk.radii[i]);
+        }
+        if (!ok) {
+          ++misses;
+          continue;
+        }
+        for (std::size_t i = 0; i < rk.size(); ++i) {
+          grid[key(xs[i])].emplace_back(xs[i], rk.radii[i]);
+          z_top = std::max(z_top, xs[i].z() + rk.radii[i]);
+        }
+        placed[k].x = std::move(xs);
+        done = true;
+      }
+      // layers far below the current top stay full: start later rocks higher up
+      if (!done && misses == 40 && zc + 2.0 * o.rock_max < z_top) z_layer0 = std::max(z_layer0, zc);
+    }
+  }
+
+  // ---- the world
+  dem::WorldParams wp;
+  wp.threads = o.threads;
+  wp.materials = dem::default_table4();
+  wp.dt = 1e-7;  // set below from the particles and bonds
+  wp.check_time_step = true;
+  wp.max_overlap_fraction = o.max_overlap_fraction;
+  const double column = z_top + o.rock_max;
+  Die die = make_die(wp, R, column, o.threads);
+  dem::World& w = *die.world;
+  const dem::BondParams bp = bpm.bond.params();
+  for (std::size_t k = 0; k < feed.size(); ++k) {
+    const auto& rk = feed[k].pack;
+    const std::size_t first = w.particles().size();
+    for (std::size_t i = 0; i < rk.size(); ++i) {
+      const double x[3] = {placed[k].x[i].x(), placed[k].x[i].y(), placed[k].x[i].z()};
+      w.add_particle(x, rk.radii[i], kRock, feed[k].sphere_density, nullptr, nullptr);
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    for (auto [i, j] : rk.bonds) pairs.emplace_back(first + i, first + j);
+    res.bonds += w.bond_pairs(pairs, bp);
+  }
+  res.particles = w.particles().size();
+  const dem::TimeStepCheck c = w.time_step_check();
+  res.dt = o.dt_safety * std::min(0.3 * c.rayleigh, c.bond);
+  w.set_dt(res.dt);
+  w.require_stable_time_step();
+  for (std::size_t i = 0; i < w.particles().size(); ++i) res.rock_mass += w.particles().m[i];
+  if (o.verbose)
+    std::fprintf(stderr, "piston die: %d rocks, %zu particles, %zu bonds, dt %.3g s, column %.1f mm\n", res.rocks,
+                 res.particles, res.bonds, res.dt, column * 1e3);
+
+  // ---- loose pouring, part 2: settle under gravity until (nearly) at rest
+  const long chunk = std::max(1L, static_cast<long>(std::lround(2e-3 / res.dt)));
+  for (;;) {
+    w.step(chunk);
+    const double v = std::sqrt(2.0 * w.kinetic_energy() / res.rock_mass);
+    if ((w.time() >= o.settle_min_time && v < o.settle_speed) || w.time() >= o.settle_max_time) {
+      if (o.verbose)
+        std::fprintf(stderr, "piston die: settled %.3f s (rms speed %.4f m/s)\n", w.time(), v);
+      break;
+    }
+  }
+  res.settle_time = w.time();
+  const auto& P = w.particles();
+  for (std::size_t i = 0; i < P.size(); ++i) res.bed_height = std::max(res.bed_height, P.z[i] + P.r[i]);
+  res.loose_solid_fraction = res.rock_mass / (res.die_area * res.bed_height * res.solid_density);
+  res.feed_passing = fragment_passing(w, sieves, nullptr, nullptr);
+  const std::size_t settle_breaks = w.breaks().size();
+  std::stringstream state;
+  {
+    core::BinaryWriter bw(state);
+    w.save_state(bw);
+  }
+  const std::string settled = state.str();
+
+  // ---- each s_max on a copy of the settled bed: load, unload, screen
+  const double H0 = res.bed_height, A = res.die_area, v = o.piston_speed;
+  for (double s_max : o.compression_ratios) {
+    const auto tl = Clock::now();
+    Die d = make_die(wp, R, column, o.threads);
+    {
+      std::istringstream is(settled);
+      core::BinaryReader br(is, "settled piston-die bed");
+      d.world->load_state(br);
+    }
+    dem::World& wk = *d.world;
+    const double start[3] = {0, 0, H0}, vdown[3] = {0, 0, -v}, vup[3] = {0, 0, v};
+    wk.set_wall_position(d.piston, start);
+    wk.set_wall_velocity(d.piston, vdown);
+    PressLoop L;
+    L.s_max = s_max;
+    L.s.push_back(0.0), L.p.push_back(0.0), L.phase.push_back(0);
+    int phase = 0;
+    double fsum = 0.0, ssum = 0.0, peak = 0.0;
+    int n = 0;
+    double next_report = seconds_since(tl) + 10.0;
+    for (;;) {
+      wk.step(1);
+      const double s = (H0 - wk.wall(d.piston).p[2]) / H0;
+      fsum += wk.wall(d.piston).force[2];  // particles push the piston up (+z)
+      ssum += s;
+      if (++n < o.record_every && !(phase == 0 && s >= s_max)) continue;
+      const double pm = fsum / n / A, sm = ssum / n;
+      fsum = ssum = 0.0;
+      n = 0;
+      L.s.push_back(sm), L.p.push_back(pm), L.phase.push_back(phase);
+      peak = std::max(peak, pm);
+      L.s_reached = std::max(L.s_reached, sm);
+      if (phase == 0 && s >= s_max) {
+        phase = 1;
+        wk.set_wall_velocity(d.piston, vup);
+      } else if (phase == 1 && (pm < o.unload_stop_ratio * peak || s <= 0.0)) {
+        break;
+      }
+      if (o.verbose && seconds_since(tl) > next_report) {
+        std::fprintf(stderr, "  s_max %.2f: %s s %.4f p %.3f MPa, %zu bonds broken\n", s_max,
+                     phase ? "unloading" : "loading", sm, pm * 1e-6, wk.breaks().size() - settle_breaks);
+        next_report = seconds_since(tl) + 10.0;
+      }
+    }
+    std::vector<double> sl, pl;
+    for (std::size_t k = 0; k < L.s.size(); ++k)
+      if (L.phase[k] == 0) sl.push_back(L.s[k]), pl.push_back(L.p[k]);
+    L.loading_work = path_integral(sl, pl);
+    L.loop_energy = path_integral(L.s, L.p);
+    L.energy_per_kg = A * H0 * L.loop_energy / res.rock_mass;
+    L.loading_energy_per_kg = A * H0 * L.loading_work / res.rock_mass;
+    L.bonds_broken = wk.breaks().size() - settle_breaks;
+    double m = 0.0;
+    L.passing = fragment_passing(wk, sieves, &m, &L.fragments);
+    L.mass_error = std::abs(m - res.rock_mass) / res.rock_mass;
+    L.wall_s = seconds_since(tl);
+    if (o.verbose)
+      std::fprintf(stderr, "  s_max %.2f: peak %.3f MPa, loop %.1f J/kg of %.1f J/kg loading, %zu bonds broken, "
+                   "%d fragments, %.0f s\n", s_max, peak * 1e-6, L.energy_per_kg, L.loading_energy_per_kg,
+                   L.bonds_broken, L.fragments, L.wall_s);
+    res.loops.push_back(std::move(L));
+  }
+  res.wall_s = seconds_since(t0);
+  return res;
+}
+
+}  // namespace chamber

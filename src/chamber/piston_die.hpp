@@ -1,0 +1,161 @@
+#pragma once
+// Virtual piston-die test on the calibrated bonded-particle rock, and the fit of the chamber flow model's
+// material parameters from it (chamber_models.md sections 2-3).
+//
+// Test (run_piston_die): a rigid steel die (vertical cylinder, axis z, faceted mesh) on a steel floor is filled
+// by loose pouring: irregular bonded rocks (rocks::make_irregular_rock packed with the BPM's metaparticles, paper
+// section 2.4.1) are placed bottom-up without overlap and settle under gravity. The bed height H0 is the top of
+// the highest sphere (where a flat piston first touches). For each maximum compression ratio s_max (each on a
+// copy of the same settled bed) a flat steel piston moves down at constant speed to s = stroke / H0 = s_max,
+// then back up until the bed no longer pushes it. Pressure p = piston force / die area (pi D^2 / 4).
+// Fragments (connected components over intact bonds, dem::Fragments) are screened by their square-mesh sieve
+// size (dem::square_sieve_size) before pressing (the feed) and after each unloading.
+//
+// Fit (fit_flow_material), the flow model's law:
+//   virgin loading  p = E s^n                      least squares of ln p on ln s over loading points s > 0.02
+//   hysteresis      mbd::bed_hysteretic: loss per loop (1 - rebound) E D^(n+1) / (n + 1), D = s_max;
+//                   rebound by least squares of the measured loop energies (closed integral of p ds)
+//   selection       S_j(s) = 1 - exp(-(s / s_cj)^m),  s_cj = s_c (x_j / x_ref)^(-q), x_ref = 10 mm,
+//                   x_j = geometric mean of class j's bounds
+//   progeny         B(x; y) = phi (x/y)^gamma + (1 - phi) (x/y)^beta (cumulative, Austin), y = class top size
+//   one event       p = [B S + I - S] f  (f: feed mass fractions per class)
+// The breakage parameters are fitted (Nelder-Mead on the cumulative passing, %) only over the sieves the
+// metaparticles resolve (>= resolve_diameters x their volume-mean diameter); those the data cannot support
+// keep documented defaults (s_c 0.25, m 2, q 0.5, phi 0.4, gamma 0.8, beta 3).
+// SI inside: m, Pa, kg; the yaml and CSV files carry mm and MPa.
+#include <string>
+#include <vector>
+
+#include "rocks/bpm_config.hpp"
+
+namespace chamber {
+
+// Square-mesh sieves of the flow model (mm, ascending).
+const std::vector<double>& flow_sieves_mm();
+
+struct PistonDieOptions {
+  double die_diameter = 0.16;        // m (>= 3 x rock_max)
+  int rock_count = 45;               // rocks poured; 0: as many as fill bed_height
+  double bed_height = 0.0;           // m, loose bed height to fill when rock_count == 0
+  // m, nominal rock sizes (y extent), log-uniform; the calibrated BPM's metaparticles (up to 16.2 mm) need >= 28 mm
+  double rock_min = 0.028, rock_max = 0.040;
+  double rock_density = 2600.0;      // kg/m^3 of the rock (Table 4): spheres heavier by V_rock / sum v_sphere
+  std::vector<double> compression_ratios{0.1, 0.2, 0.3};  // s_max of each test, ascending, in (0, 0.6]
+  double piston_speed = 0.4;         // m/s, loading and unloading (the platen tests' closing speed)
+  double settle_min_time = 0.03;     // s of settling at least
+  double settle_max_time = 0.4;      // s of settling at most
+  double settle_speed = 0.01;        // m/s: settled when sqrt(2 KE / M) falls below this
+  double dt_safety = 0.8;            // dt = dt_safety x min(0.3 Rayleigh step, bond step) (as the platen test)
+  // World's blow-up bound on contact overlap / smaller radius. A loose bed carries the piston load on a few chains:
+  // a 1.6 mm fine between a coarse sphere and the floor took 850 N (the whole bed's load at 0.05 MPa) at 0.5 r
+  // of Hertz overlap, which the default 0.5 calls a blow-up (the step is 1/20 of that sphere's Rayleigh step).
+  double max_overlap_fraction = 0.9;
+  double unload_stop_ratio = 0.002;  // unloading ends when p < this x peak p
+  int record_every = 50;             // steps per recorded (averaged) point
+  double resolve_diameters = 2.0;    // classes resolved: lower bound >= this x volume-mean metaparticle diameter
+  unsigned long long seed = 1;
+  int threads = 1;
+  bool verbose = false;              // progress on stderr
+  void validate() const;             // std::invalid_argument naming the option and what is accepted
+};
+
+// One load-unload loop.
+struct PressLoop {
+  double s_max = 0.0;                // requested
+  double s_reached = 0.0;            // largest s recorded
+  std::vector<double> s, p;          // -, Pa (averaged over record_every steps)
+  std::vector<int> phase;            // 0 loading, 1 unloading
+  double loading_work = 0.0;         // Pa: integral of p ds over the loading branch (per unit bed volume)
+  double loop_energy = 0.0;          // Pa: closed integral of p ds (load + unload)
+  double energy_per_kg = 0.0;        // J/kg absorbed: A H0 loop_energy / rock mass
+  double loading_energy_per_kg = 0.0;  // J/kg: A H0 loading_work / rock mass
+  std::size_t bonds_broken = 0;
+  double mass_error = 0.0;           // |sum of fragment masses - rock mass| / rock mass
+  std::vector<double> passing;       // product PSD: mass fraction passing each sieve of flow_sieves_mm()
+  int fragments = 0;
+  double wall_s = 0.0;
+};
+
+struct PistonDieResult {
+  int rocks = 0;
+  std::size_t particles = 0, bonds = 0;
+  double die_diameter = 0.0, die_area = 0.0;  // m, m^2 (pi D^2 / 4)
+  double bed_height = 0.0;           // m, H0
+  double rock_mass = 0.0;            // kg
+  double solid_density = 0.0;        // kg/m^3
+  double loose_solid_fraction = 0.0; // rock_mass / (A H0 solid_density)
+  double dt = 0.0, settle_time = 0.0;
+  double metaparticle_diameter = 0.0;  // m, volume-mean
+  double min_resolved = 0.0;         // m, smallest class lower bound resolved
+  std::vector<double> feed_passing;  // feed PSD (fragments of the settled bed) on flow_sieves_mm()
+  std::vector<PressLoop> loops;
+  double wall_s = 0.0;
+};
+
+// Runs the test on the BPM model (metaparticles, packing, bonds). Throws std::invalid_argument on bad options.
+PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOptions& o);
+
+// ---- fits
+struct PowerLawFit {
+  double modulus = 0.0, exponent = 0.0;  // p = modulus s^exponent (Pa)
+  double rms_log = 0.0;                  // rms residual of ln p
+  int points = 0;
+};
+// Least squares in log space over the points with s > s_min and p > 0; std::invalid_argument below 2 points.
+PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double>& p, double s_min = 0.02);
+
+// Closed integral of p ds along the recorded path (trapezoids; positive for a clockwise loss loop).
+double path_integral(const std::vector<double>& s, const std::vector<double>& p);
+// Loss of one loop of mbd::bed_hysteretic from 0 to D and back: (1 - rebound) E D^(n+1) / (n + 1).
+double hysteretic_loop_loss(double E, double n, double rebound, double D);
+// rebound minimising sum (loss_model(D_i) - loss_i)^2, clipped to [0, 1]; rms residual (Pa) in *rms.
+double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss,
+                   double* rms = nullptr);
+
+struct BreakageParams {
+  double s_c = 0.25, m = 2.0, q = 0.5, x_ref = 0.010;  // selection (x_ref in m)
+  double phi = 0.4, gamma = 0.8, beta = 3.0;           // progeny
+};
+// Cumulative progeny B(x; y), clipped to [0, 1].
+double progeny_B(double x, double y, const BreakageParams& b);
+// Selection S(x_j, s).
+double selection_S(double x, double s, const BreakageParams& b);
+// One breakage event on a cumulative-passing PSD over `sieves` (m, ascending; classes: below the first sieve,
+// between sieves, above the last): returns the product's cumulative passing.
+std::vector<double> breakage_event(const std::vector<double>& feed_passing, const std::vector<double>& sieves,
+                                   double s, const BreakageParams& b);
+
+struct FlowMaterial {
+  double solid_density = 2600.0;     // kg/m^3
+  double loose_solid_fraction = 0.55;
+  double modulus = 50e6, exponent = 2.0, rebound = 0.15, max_compression = 0.4;  // Pa, -, -, -
+  BreakageParams breakage;
+  // provenance of the fit
+  PowerLawFit pressure_fit;
+  double rebound_rms = 0.0;          // Pa
+  double psd_rms_pct = 0.0;          // rms misfit of the cumulative passing over the fitted sieves (%)
+  std::vector<std::string> fitted;   // names of the breakage parameters fitted (others default)
+  std::string breakage_note;         // which classes the fit is valid for, or why it was not fitted
+  std::vector<std::string> comments; // extra provenance lines for the yaml
+};
+
+// From a DEM run: all loading points of all loops for the pressure law, the loops for rebound, the PSDs for
+// breakage (sieves >= min_resolved only).
+FlowMaterial fit_flow_material(const PistonDieResult& r);
+
+// Laboratory piston-die data: points in order; phase 0 loading, 1 unloading (-1: from the direction of s).
+struct LabPoint {
+  double s = 0.0, p = 0.0;  // -, Pa
+  int phase = -1;
+};
+// Reads CSV "s,p_MPa[,phase]" (phase: load/unload or 0/1); std::invalid_argument naming the line on bad input.
+std::vector<LabPoint> read_lab_csv(const std::string& file);
+// Pressure law and rebound from lab loops (a new loop starts where loading follows unloading); breakage and
+// loose_solid_fraction keep their defaults (the lab file holds no PSD nor mass).
+FlowMaterial fit_flow_material_lab(const std::vector<LabPoint>& pts);
+
+// Writes the flow_material yaml (format fixed: the flow model reads it), provenance as comments above.
+void write_flow_material_yaml(const FlowMaterial& m, const std::string& file,
+                              const std::vector<std::string>& provenance);
+
+}  // namespace chamber

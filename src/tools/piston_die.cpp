@@ -1,0 +1,194 @@
+// piston_die: virtual piston-die test on the calibrated bonded-particle rock (or a plant's lab results) and the
+// chamber flow model's material parameters fitted from it (src/chamber/piston_die.hpp).
+//   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--lab CSV]
+// Writes DIR/piston_die.csv (s_max,phase,s,p_MPa), DIR/psd.csv (s_max,sieve_mm,passing_pct; s_max "feed" for the
+// feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml and, through
+// plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "chamber/piston_die.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Args {
+  std::string out, bpm, lab, command;
+  bool quick = false;
+  int threads = 1;
+  unsigned long long seed = 1;
+  double dt_safety = 0.0;  // 0: the library's default
+};
+
+[[noreturn]] void usage(const std::string& why) {
+  std::fprintf(stderr,
+               "piston_die: %s\nusage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] "
+               "[--dt-safety X] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
+               "or 0/1) fitted instead of the DEM test\n",
+               why.c_str());
+  std::exit(2);
+}
+
+long integer(const std::string& flag, const std::string& v, long lo, long hi) {
+  char* end = nullptr;
+  const long n = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end || n < lo || n > hi)
+    usage(flag + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
+  return n;
+}
+
+Args parse(int argc, char** argv) {
+  Args a;
+  for (int i = 0; i < argc; ++i) a.command += (i ? " " : "") + std::string(argv[i]);
+  for (int i = 1; i < argc; ++i) {
+    const std::string s = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage("option " + s + " needs a value");
+      return argv[++i];
+    };
+    if (s == "--out") a.out = value();
+    else if (s == "--bpm") a.bpm = value();
+    else if (s == "--lab") a.lab = value();
+    else if (s == "--quick") a.quick = true;
+    else if (s == "--threads") a.threads = static_cast<int>(integer(s, value(), 1, 256));
+    else if (s == "--seed") a.seed = static_cast<unsigned long long>(integer(s, value(), 1, 1000000000));
+    else if (s == "--dt-safety") {
+      const std::string v = value();
+      char* end = nullptr;
+      a.dt_safety = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
+        usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
+    } else if (s == "-h" || s == "--help") usage("help");
+    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --lab)");
+  }
+  if (a.out.empty()) usage("--out DIR is required");
+  if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");
+  return a;
+}
+
+std::string find_file(const std::string& rel) {
+  for (const fs::path& p : {fs::path(rel), fs::path(__FILE__).parent_path().parent_path().parent_path() / rel})
+    if (fs::exists(p)) return p.string();
+  return "";
+}
+
+void plot(const Args& a) {
+  const std::string script = find_file("src/tools/plot_piston_die.py");
+  if (script.empty()) {
+    std::fprintf(stderr, "piston_die: plot_piston_die.py not found: no PNG plots written\n");
+    return;
+  }
+  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "'";
+  if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "piston_die: plotting failed (%s)\n", cmd.c_str());
+}
+
+std::string f(const char* fmt, double x) {
+  char b[64];
+  std::snprintf(b, sizeof b, fmt, x);
+  return b;
+}
+
+int run_lab(const Args& a) {
+  const auto pts = chamber::read_lab_csv(a.lab);
+  const chamber::FlowMaterial m = chamber::fit_flow_material_lab(pts);
+  std::ofstream csv(a.out + "/piston_die.csv");
+  csv << "s_max,phase,s,p_MPa\n";
+  for (const auto& q : pts) csv << f("%.4f", m.max_compression) << "," << (q.phase == 1 ? "unload" : "load") << ","
+                                << q.s << "," << q.p * 1e-6 << "\n";
+  chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml",
+                                    {"written by: " + a.command, "source: laboratory piston-die data " + a.lab + " (" +
+                                                                     std::to_string(pts.size()) + " points)"});
+  std::printf("lab fit: E %.4g MPa, n %.4f, rebound %.4f, max_compression %.4f\n", m.modulus * 1e-6, m.exponent,
+              m.rebound, m.max_compression);
+  return 0;
+}
+
+int run_dem(const Args& a) {
+  const std::string bpm_file = a.bpm.empty() ? find_file("launch_free_configs/bpm_calibrated.yaml") : a.bpm;
+  if (bpm_file.empty() || !fs::exists(bpm_file))
+    usage("--bpm: file '" + (bpm_file.empty() ? std::string("launch_free_configs/bpm_calibrated.yaml") : bpm_file) +
+          "' not found (a bpm yaml such as launch_free_configs/bpm_calibrated.yaml)");
+  const rocks::BpmModel bpm = rocks::load_bpm_model(bpm_file);
+  chamber::PistonDieOptions o;
+  o.threads = a.threads;
+  o.seed = a.seed;
+  o.verbose = true;
+  if (a.dt_safety > 0) o.dt_safety = a.dt_safety;
+  if (a.quick) {  // a small die: minutes become seconds, the numbers are not representative
+    o.die_diameter = 0.10;
+    o.rock_min = 0.028, o.rock_max = 0.032;
+    o.rock_count = 18;
+    o.piston_speed = 0.4;
+  }
+  const chamber::PistonDieResult r = chamber::run_piston_die(bpm, o);
+  const chamber::FlowMaterial m = chamber::fit_flow_material(r);
+
+  std::ofstream csv(a.out + "/piston_die.csv");
+  csv << "s_max,phase,s,p_MPa\n";
+  for (const auto& L : r.loops)
+    for (std::size_t k = 0; k < L.s.size(); ++k)
+      csv << L.s_max << "," << (L.phase[k] ? "unload" : "load") << "," << f("%.6g", L.s[k]) << ","
+          << f("%.6g", L.p[k] * 1e-6) << "\n";
+  const auto& sv = chamber::flow_sieves_mm();
+  std::ofstream psd(a.out + "/psd.csv"), fit(a.out + "/psd_fit.csv");
+  psd << "s_max,sieve_mm,passing_pct\n";
+  fit << "s_max,sieve_mm,passing_pct\n";
+  for (std::size_t k = 0; k < sv.size(); ++k) psd << "feed," << sv[k] << "," << f("%.4f", 100 * r.feed_passing[k]) << "\n";
+  std::vector<double> sieves;
+  for (double mm : sv) sieves.push_back(mm * 1e-3);
+  for (const auto& L : r.loops) {
+    const auto pred = chamber::breakage_event(r.feed_passing, sieves, L.s_reached, m.breakage);
+    for (std::size_t k = 0; k < sv.size(); ++k) {
+      psd << L.s_max << "," << sv[k] << "," << f("%.4f", 100 * L.passing[k]) << "\n";
+      fit << L.s_max << "," << sv[k] << "," << f("%.4f", 100 * pred[k]) << "\n";
+    }
+  }
+  std::vector<std::string> prov{
+      "written by: " + a.command,
+      "virtual piston-die test (src/chamber/piston_die.cpp) on the BPM " + bpm_file + (a.quick ? " (--quick)" : ""),
+      std::to_string(r.rocks) + " rocks " + f("%.1f", o.rock_min * 1e3) + "-" + f("%.1f", o.rock_max * 1e3) +
+          " mm, " + std::to_string(r.particles) + " particles, " + std::to_string(r.bonds) + " bonds, rock mass " +
+          f("%.4f", r.rock_mass) + " kg",
+      "die " + f("%.1f", r.die_diameter * 1e3) + " mm diameter, loose bed height " + f("%.2f", r.bed_height * 1e3) +
+          " mm, piston " + f("%.3g", o.piston_speed) + " m/s, dt " + f("%.3g", r.dt) + " s, settled " +
+          f("%.3f", r.settle_time) + " s, wall " + f("%.0f", r.wall_s) + " s"};
+  for (const auto& L : r.loops)
+    prov.push_back("s_max " + f("%.2f", L.s_max) + ": reached " + f("%.4f", L.s_reached) + ", peak " +
+                   f("%.3f", *std::max_element(L.p.begin(), L.p.end()) * 1e-6) + " MPa, absorbed " +
+                   f("%.2f", L.energy_per_kg) + " J/kg of " + f("%.2f", L.loading_energy_per_kg) +
+                   " J/kg loading work, " + std::to_string(L.bonds_broken) + " bonds broken, " +
+                   std::to_string(L.fragments) + " fragments, mass error " + f("%.1e", L.mass_error));
+  chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
+  for (const auto& l : prov) std::printf("%s\n", l.c_str());
+  std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",
+              r.loose_solid_fraction, m.modulus * 1e-6, m.exponent, m.pressure_fit.rms_log, m.rebound,
+              m.max_compression);
+  std::printf("breakage: s_c %.4f m %.4f q %.4f phi %.4f gamma %.4f beta %.4f (%s; rms %.2f %%)\n", m.breakage.s_c,
+              m.breakage.m, m.breakage.q, m.breakage.phi, m.breakage.gamma, m.breakage.beta,
+              m.breakage_note.c_str(), m.psd_rms_pct);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Args a = parse(argc, argv);
+  try {
+    fs::create_directories(a.out);
+    const int rc = a.lab.empty() ? run_dem(a) : run_lab(a);
+    plot(a);
+    return rc;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "piston_die: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "piston_die: error: %s\n", e.what());
+    return 1;
+  }
+}
