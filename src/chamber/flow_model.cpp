@@ -171,7 +171,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const Eigen::Vector3d xm = concave_to_mantle * xc;
     const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
     Eigen::Vector2d nzr;
-    const double g = std::max(0.0, -core::signed_distance_inside(mantle_, {xm.z(), rho}, &nzr));
+    const double g = std::max(0.0, -mantle_.signed_distance(xm.z(), rho, &nzr));
     closing_[k] = prefilled_ && g < gap_[k];  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
     pressure_[k] = 0;

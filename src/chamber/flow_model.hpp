@@ -106,7 +106,7 @@ class FlowModel {
 
  private:
   FlowParams p_;
-  core::Profile mantle_;
+  core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;
   double rho0_ = 0, z_lo_ = 0, dz_ = 0;
   std::vector<double> area_, z_mid_, r_mid_, cos_, sin_, feed_share_;

@@ -71,6 +71,49 @@ double signed_distance_inside(const Profile& p, const Eigen::Vector2d& q, Eigen:
   return inside ? best : -best;
 }
 
+ProfileDistance::ProfileDistance(const Profile& c) {
+  for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+    Seg sg;
+    sg.az = c.z[i];
+    sg.ar = c.r[i];
+    sg.dz = c.z[i + 1] - c.z[i];
+    sg.dr = c.r[i + 1] - c.r[i];
+    sg.inv_len2 = 1.0 / (sg.dz * sg.dz + sg.dr * sg.dr);
+    Eigen::Vector2d n(-sg.dr, sg.dz);
+    if (n.y() < 0) n = -n;
+    n.normalize();
+    sg.nz = n.x();
+    sg.nr = n.y();
+    segs_.push_back(sg);
+  }
+}
+
+double ProfileDistance::signed_distance(double z, double r, Eigen::Vector2d* nzr) const {
+  double best = std::numeric_limits<double>::infinity(), side = 0;
+  int ib = 0;
+  bool at_end = false;
+  for (std::size_t i = 0; i < segs_.size(); ++i) {
+    const Seg& s = segs_[i];
+    const double t = ((z - s.az) * s.dz + (r - s.ar) * s.dr) * s.inv_len2;
+    double d2, sd;
+    bool end = false;
+    if (t > 0.0 && t < 1.0) {
+      sd = (s.az - z) * s.nz + (s.ar - r) * s.nr;
+      d2 = sd * sd;
+    } else {
+      const double tc = t <= 0.0 ? 0.0 : 1.0;
+      const double ez = s.az + tc * s.dz - z, er = s.ar + tc * s.dr - r;
+      d2 = ez * ez + er * er;
+      sd = ez * s.nz + er * s.nr;
+      end = true;
+    }
+    if (d2 < best) best = d2, ib = static_cast<int>(i), side = sd, at_end = end;
+  }
+  if (nzr) *nzr = Eigen::Vector2d(segs_[ib].nz, segs_[ib].nr);
+  const double d = at_end ? std::sqrt(best) : std::fabs(side);
+  return side >= 0 ? d : -d;
+}
+
 static void check_profile(const Profile& p, const std::string& name, const std::string& zkey,
                           const std::string& rkey, const ConfigNode* node) {
   auto bad = [&](const std::string& key, const std::string& what) {

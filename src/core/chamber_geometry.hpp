@@ -39,6 +39,22 @@ struct ChamberGeometry {
 // of the profile seen from the axis side).
 double signed_distance_inside(const Profile& p, const Eigen::Vector2d& q, Eigen::Vector2d* normal_zr);
 
+// signed_distance_inside with the segments precomputed, for hot loops: the sign from the side of the closest
+// segment's outward normal (the same as signed_distance_inside where the point lies within the profile's z range).
+// A foot inside a segment gives the signed distance to its line directly (no square root); only an end point needs
+// one. normal_zr: the closest segment's outward unit normal (z, r).
+class ProfileDistance {
+ public:
+  explicit ProfileDistance(const Profile& p);
+  double signed_distance(double z, double r, Eigen::Vector2d* normal_zr) const;
+
+ private:
+  struct Seg {
+    double az, ar, dz, dr, inv_len2, nz, nr;
+  };
+  std::vector<Seg> segs_;
+};
+
 // Reads `mantle_z_mm`, `mantle_r_mm`, `concave_z_mm`, `concave_r_mm` (lists in mm) of `node`.
 // Throws ConfigError naming the key when lengths differ, z is not monotonic, r <= 0, or the concave
 // does not enclose the mantle over their common height (gap must stay > 0 in the untilted assembly).

@@ -22,36 +22,7 @@ double effective_mass(const RigidKinematics& a, const Eigen::Vector3d& ra, const
 }
 }  // namespace
 
-double ChamberForces::segment_gap(double z, double r, Eigen::Vector2d* nzr) const {
-  // core::signed_distance_inside with precomputed segments (hot loop); inside/outside from the side
-  // of the closest segment's outward normal. A foot inside a segment gives the signed distance to its line
-  // directly (no square root); only an end point needs one.
-  double best = std::numeric_limits<double>::infinity(), side = 0;
-  int ib = 0;
-  bool at_end = false;
-  for (std::size_t i = 0; i < segs_.size(); ++i) {
-    const Seg& s = segs_[i];
-    const double t = ((z - s.az) * s.dz + (r - s.ar) * s.dr) * s.inv_len2;
-    double d2, sd;
-    bool end = false;
-    if (t > 0.0 && t < 1.0) {
-      sd = (s.az - z) * s.nz + (s.ar - r) * s.nr;
-      d2 = sd * sd;
-    } else {
-      const double tc = t <= 0.0 ? 0.0 : 1.0;
-      const double ez = s.az + tc * s.dz - z, er = s.ar + tc * s.dr - r;
-      d2 = ez * ez + er * er;
-      sd = ez * s.nz + er * s.nr;
-      end = true;
-    }
-    if (d2 < best) best = d2, ib = static_cast<int>(i), side = sd, at_end = end;
-  }
-  if (nzr) *nzr = Eigen::Vector2d(segs_[ib].nz, segs_[ib].nr);
-  const double d = at_end ? std::sqrt(best) : std::fabs(side);
-  return side >= 0 ? d : -d;
-}
-
-ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
+ChamberForces::ChamberForces(const MechanismParams& p) : concave_(p.chamber.concave), p_(p) {
   const auto& m = p.chamber.mantle;
   const double L = m.length();
   const int na = p.sampling.azimuth, ng = p.sampling.generator;
@@ -73,20 +44,6 @@ ChamberForces::ChamberForces(const MechanismParams& p) : p_(p) {
   contact_r_ = m.r;
   contact_k_.assign(m.size(), 0);
   const auto& c = p.chamber.concave;
-  for (std::size_t i = 0; i + 1 < c.size(); ++i) {
-    Seg sg;
-    sg.az = c.z[i];
-    sg.ar = c.r[i];
-    sg.dz = c.z[i + 1] - c.z[i];
-    sg.dr = c.r[i + 1] - c.r[i];
-    sg.inv_len2 = 1.0 / (sg.dz * sg.dz + sg.dr * sg.dr);
-    Eigen::Vector2d n(-sg.dr, sg.dz);
-    if (n.y() < 0) n = -n;
-    n.normalize();
-    sg.nz = n.x();
-    sg.nr = n.y();
-    segs_.push_back(sg);
-  }
   for (int k = 0; k < na; ++k) cos_.push_back(std::cos(2.0 * kPi * k / na)), sin_.push_back(std::sin(2.0 * kPi * k / na));
   contact_rest_gap_ = std::numeric_limits<double>::infinity();
   contact_reach_ = 0;
@@ -134,7 +91,7 @@ ChamberForceResult ChamberForces::compute(const RigidKinematics& M, const RigidK
     const Eigen::Vector3d q = A * l + b;
     if (q_out) *q_out = q;
     const double rc = std::sqrt(q.x() * q.x() + q.y() * q.y());
-    return segment_gap(q.z(), rc, nzr);
+    return concave_.signed_distance(q.z(), rc, nzr);
   };
   auto world_of = [&](const Eigen::Vector3d& q, const Eigen::Vector2d& nzr, Eigen::Vector3d* P, Eigen::Vector3d* n) {
     *P = C.x + C.R * (q + C.liner_origin);

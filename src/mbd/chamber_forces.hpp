@@ -82,11 +82,7 @@ class ChamberForces {
     const Sample* s;
     std::size_t k;  // sample index
   };
-  struct Seg {
-    double az, ar, dz, dr, inv_len2, nz, nr;
-  };
-  double segment_gap(double z, double r, Eigen::Vector2d* nzr) const;
-  std::vector<Seg> segs_;
+  core::ProfileDistance concave_;  // the gap of a point to the concave (hot loop)
   std::vector<double> cos_, sin_;
   double contact_rest_gap_ = 0, contact_reach_ = 0;
   MechanismParams p_;
