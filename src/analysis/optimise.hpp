@@ -3,6 +3,8 @@
 #include <functional>
 #include <vector>
 
+#include "core/nelder_mead.hpp"
+
 namespace analysis {
 
 struct Minimum {
@@ -19,14 +21,7 @@ Minimum minimise_scan_golden(const std::function<double(double)>& f, double a, d
 // Second derivative of f at x by central differences with step h (f(x) known as fx).
 double second_derivative(const std::function<double(double)>& f, double x, double fx, double h);
 
-struct MinimumN {
-  std::vector<double> x;
-  double f = 0;
-  int evaluations = 0;
-};
-// Nelder-Mead simplex (Nelder and Mead 1965; reflection 1, expansion 2, contraction 0.5, shrink 0.5) from x0
-// with initial steps `step` per coordinate, until the simplex's f values span less than f_tol or max_evaluations.
-MinimumN nelder_mead(const std::function<double(const std::vector<double>&)>& f, const std::vector<double>& x0,
-                     const std::vector<double>& step, double f_tol, int max_evaluations = 200);
+using core::MinimumN;
+using core::nelder_mead;
 
 }  // namespace analysis

@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "chamber/breakage.hpp"
+#include "chamber/flow_model.hpp"
 #include "rocks/bpm_config.hpp"
 
 namespace chamber {
@@ -112,25 +114,14 @@ double hysteretic_loop_loss(double E, double n, double rebound, double D);
 double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss,
                    double* rms = nullptr);
 
-struct BreakageParams {
-  double s_c = 0.25, m = 2.0, q = 0.5, x_ref = 0.010;  // selection (x_ref in m)
-  double phi = 0.4, gamma = 0.8, beta = 3.0;           // progeny
-};
-// Cumulative progeny B(x; y), clipped to [0, 1].
-double progeny_B(double x, double y, const BreakageParams& b);
-// Selection S(x_j, s).
-double selection_S(double x, double s, const BreakageParams& b);
-// One breakage event on a cumulative-passing PSD over `sieves` (m, ascending; classes: below the first sieve,
-// between sieves, above the last): returns the product's cumulative passing.
+// One breakage event (chamber::Breakage, breakage.hpp) on a cumulative-passing PSD over `sieves` (m, ascending;
+// classes: below the first sieve, between sieves, above the last): returns the product's cumulative passing.
 std::vector<double> breakage_event(const std::vector<double>& feed_passing, const std::vector<double>& sieves,
                                    double s, const BreakageParams& b);
 
-struct FlowMaterial {
-  double solid_density = 2600.0;     // kg/m^3
-  double loose_solid_fraction = 0.55;
-  double modulus = 50e6, exponent = 2.0, rebound = 0.15, max_compression = 0.4;  // Pa, -, -, -
-  BreakageParams breakage;
-  // provenance of the fit
+// The fitted material (the flow model's FlowMaterial) with the fit's provenance.
+struct MaterialFit {
+  FlowMaterial material;
   PowerLawFit pressure_fit;
   double rebound_rms = 0.0;          // Pa
   double psd_rms_pct = 0.0;          // rms misfit of the cumulative passing over the fitted sieves (%)
@@ -141,7 +132,7 @@ struct FlowMaterial {
 
 // From a DEM run: all loading points of all loops for the pressure law, the loops for rebound, the PSDs for
 // breakage (sieves >= min_resolved only).
-FlowMaterial fit_flow_material(const PistonDieResult& r);
+MaterialFit fit_flow_material(const PistonDieResult& r);
 
 // Laboratory piston-die data: points in order; phase 0 loading, 1 unloading (-1: from the direction of s).
 struct LabPoint {
@@ -152,10 +143,10 @@ struct LabPoint {
 std::vector<LabPoint> read_lab_csv(const std::string& file);
 // Pressure law and rebound from lab loops (a new loop starts where loading follows unloading); breakage and
 // loose_solid_fraction keep their defaults (the lab file holds no PSD nor mass).
-FlowMaterial fit_flow_material_lab(const std::vector<LabPoint>& pts);
+MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts);
 
 // Writes the flow_material yaml (format fixed: the flow model reads it), provenance as comments above.
-void write_flow_material_yaml(const FlowMaterial& m, const std::string& file,
+void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
                               const std::vector<std::string>& provenance);
 
 }  // namespace chamber

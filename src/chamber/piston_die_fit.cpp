@@ -10,62 +10,10 @@
 #include <stdexcept>
 
 #include "chamber/piston_die.hpp"
+#include "core/nelder_mead.hpp"
 
 namespace chamber {
 namespace {
-
-// Nelder-Mead minimiser (unconstrained; callers transform bounded parameters).
-std::vector<double> nelder_mead(const std::function<double(const std::vector<double>&)>& f, std::vector<double> x0,
-                                double step, int max_iter, double* fmin) {
-  const std::size_t n = x0.size();
-  std::vector<std::vector<double>> v(n + 1, x0);
-  std::vector<double> fv(n + 1);
-  for (std::size_t i = 0; i < n; ++i) v[i + 1][i] += step;
-  for (std::size_t i = 0; i <= n; ++i) fv[i] = f(v[i]);
-  for (int it = 0; it < max_iter; ++it) {
-    std::vector<std::size_t> idx(n + 1);
-    for (std::size_t i = 0; i <= n; ++i) idx[i] = i;
-    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return fv[a] < fv[b]; });
-    const std::size_t best = idx[0], worst = idx[n], second = idx[n - 1];
-    if (std::abs(fv[worst] - fv[best]) <= 1e-12 * (1.0 + std::abs(fv[best]))) break;
-    std::vector<double> c(n, 0.0);
-    for (std::size_t i = 0; i <= n; ++i)
-      if (i != worst)
-        for (std::size_t k = 0; k < n; ++k) c[k] += v[i][k] / n;
-    auto along = [&](double t) {
-      std::vector<double> x(n);
-      for (std::size_t k = 0; k < n; ++k) x[k] = c[k] + t * (v[worst][k] - c[k]);
-      return x;
-    };
-    const auto xr = along(-1.0);
-    const double fr = f(xr);
-    if (fr < fv[best]) {
-      const auto xe = along(-2.0);
-      const double fe = f(xe);
-      if (fe < fr) v[worst] = xe, fv[worst] = fe;
-      else v[worst] = xr, fv[worst] = fr;
-    } else if (fr < fv[second]) {
-      v[worst] = xr, fv[worst] = fr;
-    } else {
-      const auto xc = along(fr < fv[worst] ? -0.5 : 0.5);
-      const double fc = f(xc);
-      if (fc < std::min(fr, fv[worst])) {
-        v[worst] = xc, fv[worst] = fc;
-      } else {  // shrink towards the best
-        for (std::size_t i = 0; i <= n; ++i) {
-          if (i == best) continue;
-          for (std::size_t k = 0; k < n; ++k) v[i][k] = v[best][k] + 0.5 * (v[i][k] - v[best][k]);
-          fv[i] = f(v[i]);
-        }
-      }
-    }
-  }
-  std::size_t b = 0;
-  for (std::size_t i = 1; i <= n; ++i)
-    if (fv[i] < fv[b]) b = i;
-  if (fmin) *fmin = fv[b];
-  return v[b];
-}
 
 double logistic(double u) { return 1.0 / (1.0 + std::exp(-u)); }
 double logit(double p) { return std::log(p / (1.0 - p)); }
@@ -77,7 +25,7 @@ std::string fmt(const char* f, double x) {
 }
 
 // Breakage fit over the resolved sieves (see piston_die.hpp).
-void fit_breakage(const PistonDieResult& r, FlowMaterial& m) {
+void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
   std::vector<double> sieves;
   for (double mm : flow_sieves_mm()) sieves.push_back(mm * 1e-3);
   std::vector<std::size_t> use;
@@ -131,11 +79,13 @@ void fit_breakage(const PistonDieResult& r, FlowMaterial& m) {
     auto u = u0;
     u[0] += start;
     double f = 0.0;
-    u = nelder_mead([&](const std::vector<double>& x) { return sse(unpack(x)); }, u, 0.5, 4000, &f);
-    u = nelder_mead([&](const std::vector<double>& x) { return sse(unpack(x)); }, u, 0.1, 4000, &f);
+    auto cost = [&](const std::vector<double>& x) { return sse(unpack(x)); };
+    auto r1 = core::nelder_mead(cost, u, std::vector<double>(u.size(), 0.5), 1e-12, 8000);
+    auto r2 = core::nelder_mead(cost, r1.x, std::vector<double>(u.size(), 0.1), 1e-12, 8000);
+    u = r2.x, f = r2.f;
     if (f < best) best = f, ubest = u;
   }
-  m.breakage = unpack(ubest);
+  m.material.breakage = unpack(ubest);
   m.psd_rms_pct = std::sqrt(best / (r.loops.size() * use.size()));
   m.fitted = {"s_c"};
   if (fit_m) m.fitted.push_back("m");
@@ -202,48 +152,25 @@ double fit_rebound(double E, double n, const std::vector<double>& D, const std::
   return r;
 }
 
-double progeny_B(double x, double y, const BreakageParams& b) {
-  if (!(x > 0)) return 0.0;
-  const double r = std::min(x / y, 1.0);
-  return std::clamp(b.phi * std::pow(r, b.gamma) + (1.0 - b.phi) * std::pow(r, b.beta), 0.0, 1.0);
-}
-
-double selection_S(double x, double s, const BreakageParams& b) {
-  if (!(s > 0)) return 0.0;
-  const double sc = b.s_c * std::pow(x / b.x_ref, -b.q);
-  return 1.0 - std::exp(-std::pow(s / sc, b.m));
-}
-
-std::vector<double> breakage_event(const std::vector<double>& P, const std::vector<double>& a, double s,
+std::vector<double> breakage_event(const std::vector<double>& P, const std::vector<double>& sieves, double s,
                                    const BreakageParams& b) {
-  const std::size_t K = a.size();
+  const std::size_t K = sieves.size();
   if (P.size() != K || K < 2) throw std::invalid_argument("breakage_event: need >= 2 sieves and one passing each");
-  // classes c = 0 (pan, below a[0]), 1..K-1 (a[c-1], a[c]], K (above a[K-1])
-  std::vector<double> f(K + 1), lo(K + 1), hi(K + 1);
-  for (std::size_t c = 0; c <= K; ++c) {
-    f[c] = (c < K ? P[c] : 1.0) - (c ? P[c - 1] : 0.0);
-    lo[c] = c ? a[c - 1] : 0.0;
-    hi[c] = c < K ? a[c] : a[K - 1] * std::sqrt(2.0);
-  }
-  std::vector<double> out(K + 1, 0.0);
-  for (std::size_t j = 0; j <= K; ++j) {
-    // the pan's breakage stays in the pan: S = 0 there
-    const double S = j ? selection_S(std::sqrt(lo[j] * hi[j]), s, b) : 0.0;
-    out[j] += (1.0 - S) * f[j];
-    for (std::size_t c = 0; c <= j; ++c)  // b_cj = B(hi_c; y_j) - B(lo_c; y_j), y_j = hi_j (b_jj: stays)
-      out[c] += S * f[j] * (progeny_B(c == j ? hi[j] : hi[c], hi[j], b) - progeny_B(lo[c], hi[j], b));
-  }
+  std::vector<double> f(K + 1);  // mass fractions per class: pan, between sieves, above the largest
+  for (std::size_t c = 0; c <= K; ++c) f[c] = (c < K ? P[c] : 1.0) - (c ? P[c - 1] : 0.0);
+  Breakage(sieves, b).apply(s, f.data());
   std::vector<double> cum(K);
   double acc = 0.0;
-  for (std::size_t k = 0; k < K; ++k) cum[k] = (acc += out[k]);
+  for (std::size_t k = 0; k < K; ++k) cum[k] = (acc += f[k]);
   return cum;
 }
 
-FlowMaterial fit_flow_material(const PistonDieResult& r) {
+MaterialFit fit_flow_material(const PistonDieResult& r) {
   if (r.loops.empty()) throw std::invalid_argument("fit_flow_material: the result holds no load-unload loop");
-  FlowMaterial m;
-  m.solid_density = r.solid_density;
-  m.loose_solid_fraction = r.loose_solid_fraction;
+  MaterialFit m;
+  auto& mat = m.material;
+  mat.solid_density = r.solid_density;
+  mat.loose_fraction = r.loose_solid_fraction;
   // Every loop starts from the same settled bed (deterministic), so the deepest one's loading branch holds the
   // others': fit that one.
   const PressLoop* deep = &r.loops.front();
@@ -253,13 +180,13 @@ FlowMaterial fit_flow_material(const PistonDieResult& r) {
   for (std::size_t k = 0; k < deep->s.size(); ++k)
     if (deep->phase[k] == 0) s.push_back(deep->s[k]), p.push_back(deep->p[k]);
   m.pressure_fit = fit_power_law(s, p, 0.02);
-  m.modulus = m.pressure_fit.modulus, m.exponent = m.pressure_fit.exponent;
-  m.max_compression = 0.0;  // the largest s reached
+  mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
+  mat.max_compression = 0.0;  // the largest s reached
   for (const auto& L : r.loops) {
     D.push_back(L.s_reached), loss.push_back(L.loop_energy);
-    m.max_compression = std::max(m.max_compression, L.s_reached);
+    mat.max_compression = std::max(mat.max_compression, L.s_reached);
   }
-  m.rebound = fit_rebound(m.modulus, m.exponent, D, loss, &m.rebound_rms);
+  mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
   fit_breakage(r, m);
   return m;
 }
@@ -308,7 +235,7 @@ std::vector<LabPoint> read_lab_csv(const std::string& file) {
   return pts;
 }
 
-FlowMaterial fit_flow_material_lab(const std::vector<LabPoint>& pts) {
+MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts) {
   if (pts.size() < 3) throw std::invalid_argument("fit_flow_material_lab: need >= 3 points");
   // phases from the direction of s where not given; a loop starts where loading follows unloading
   std::vector<int> ph(pts.size());
@@ -322,10 +249,11 @@ FlowMaterial fit_flow_material_lab(const std::vector<LabPoint>& pts) {
     if (loops.empty() || (ph[k] == 0 && k > 0 && ph[k - 1] == 1)) loops.emplace_back();
     loops.back().push_back(k);
   }
-  FlowMaterial m;
+  MaterialFit m;
+  auto& mat = m.material;
   std::vector<double> s, p, D, loss;
   bool unloaded = false;
-  m.max_compression = 0.0;  // the largest s reached
+  mat.max_compression = 0.0;  // the largest s reached
   for (const auto& L : loops) {
     std::vector<double> ls, lp;
     double dmax = 0;
@@ -336,22 +264,22 @@ FlowMaterial fit_flow_material_lab(const std::vector<LabPoint>& pts) {
       if (ph[k] == 0) s.push_back(pts[k].s), p.push_back(pts[k].p);
       else has_unload = true;
     }
-    m.max_compression = std::max(m.max_compression, dmax);
+    mat.max_compression = std::max(mat.max_compression, dmax);
     if (has_unload) {
       D.push_back(dmax), loss.push_back(path_integral(ls, lp));
       unloaded = true;
     }
   }
   m.pressure_fit = fit_power_law(s, p, 0.02);
-  m.modulus = m.pressure_fit.modulus, m.exponent = m.pressure_fit.exponent;
-  if (unloaded) m.rebound = fit_rebound(m.modulus, m.exponent, D, loss, &m.rebound_rms);
-  else m.comments.push_back("no unloading branch in the lab data: rebound default " + fmt("%g", m.rebound));
-  m.comments.push_back("loose_solid_fraction not in the lab data: default " + fmt("%g", m.loose_solid_fraction));
+  mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
+  if (unloaded) mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
+  else m.comments.push_back("no unloading branch in the lab data: rebound default " + fmt("%g", mat.rebound));
+  m.comments.push_back("loose_solid_fraction not in the lab data: default " + fmt("%g", mat.loose_fraction));
   m.breakage_note = "breakage not fitted (the lab data holds no PSD): defaults";
   return m;
 }
 
-void write_flow_material_yaml(const FlowMaterial& m, const std::string& file,
+void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
                               const std::vector<std::string>& provenance) {
   std::ofstream out(file);
   if (!out) throw std::runtime_error("write_flow_material_yaml: cannot write '" + file + "'");
@@ -367,12 +295,13 @@ void write_flow_material_yaml(const FlowMaterial& m, const std::string& file,
     out << " (rms " << fmt("%.2f", m.psd_rms_pct) << " % passing)";
   }
   out << "\n";
-  const auto& b = m.breakage;
+  const auto& mat = m.material;
+  const auto& b = mat.breakage;
   out << "flow_material:\n";
-  out << "  solid_density_kg_m3: " << fmt("%g", m.solid_density) << "\n";
-  out << "  loose_solid_fraction: " << fmt("%.4f", m.loose_solid_fraction) << "\n";
-  out << "  pressure: {modulus_MPa: " << fmt("%.6g", m.modulus * 1e-6) << ", exponent: " << fmt("%.4f", m.exponent)
-      << ", rebound: " << fmt("%.4f", m.rebound) << ", max_compression: " << fmt("%.4f", m.max_compression) << "}\n";
+  out << "  solid_density_kg_m3: " << fmt("%g", mat.solid_density) << "\n";
+  out << "  loose_solid_fraction: " << fmt("%.4f", mat.loose_fraction) << "\n";
+  out << "  pressure: {modulus_MPa: " << fmt("%.6g", mat.modulus_Pa * 1e-6) << ", exponent: " << fmt("%.4f", mat.exponent)
+      << ", rebound: " << fmt("%.4f", mat.rebound) << ", max_compression: " << fmt("%.4f", mat.max_compression) << "}\n";
   out << "  selection: {s_c: " << fmt("%.4f", b.s_c) << ", exponent: " << fmt("%.4f", b.m)
       << ", size_exponent: " << fmt("%.4f", b.q) << ", x_ref_mm: " << fmt("%g", b.x_ref * 1e3) << "}\n";
   out << "  progeny: {phi: " << fmt("%.4f", b.phi) << ", gamma: " << fmt("%.4f", b.gamma)

@@ -24,12 +24,14 @@ struct Args {
   int threads = 1;
   unsigned long long seed = 1;
   double dt_safety = 0.0;  // 0: the library's default
+  int rocks = 0;           // 0: the library's default
+  double die_mm = 0;       // 0: the library's default
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "piston_die: %s\nusage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] "
-               "[--dt-safety X] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
+               "[--dt-safety X] [--rocks N] [--die-mm D] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
                "or 0/1) fitted instead of the DEM test\n",
                why.c_str());
   std::exit(2);
@@ -56,6 +58,8 @@ Args parse(int argc, char** argv) {
     else if (s == "--bpm") a.bpm = value();
     else if (s == "--lab") a.lab = value();
     else if (s == "--quick") a.quick = true;
+    else if (s == "--rocks") a.rocks = static_cast<int>(integer(s, value(), 1, 100000));
+    else if (s == "--die-mm") a.die_mm = static_cast<double>(integer(s, value(), 50, 2000));
     else if (s == "--threads") a.threads = static_cast<int>(integer(s, value(), 1, 256));
     else if (s == "--seed") a.seed = static_cast<unsigned long long>(integer(s, value(), 1, 1000000000));
     else if (s == "--dt-safety") {
@@ -65,7 +69,7 @@ Args parse(int argc, char** argv) {
       if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
         usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
     } else if (s == "-h" || s == "--help") usage("help");
-    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --lab)");
+    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, --die-mm, --lab)");
   }
   if (a.out.empty()) usage("--out DIR is required");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");
@@ -96,16 +100,16 @@ std::string f(const char* fmt, double x) {
 
 int run_lab(const Args& a) {
   const auto pts = chamber::read_lab_csv(a.lab);
-  const chamber::FlowMaterial m = chamber::fit_flow_material_lab(pts);
+  const chamber::MaterialFit m = chamber::fit_flow_material_lab(pts);
   std::ofstream csv(a.out + "/piston_die.csv");
   csv << "s_max,phase,s,p_MPa\n";
-  for (const auto& q : pts) csv << f("%.4f", m.max_compression) << "," << (q.phase == 1 ? "unload" : "load") << ","
+  for (const auto& q : pts) csv << f("%.4f", m.material.max_compression) << "," << (q.phase == 1 ? "unload" : "load") << ","
                                 << q.s << "," << q.p * 1e-6 << "\n";
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml",
                                     {"written by: " + a.command, "source: laboratory piston-die data " + a.lab + " (" +
                                                                      std::to_string(pts.size()) + " points)"});
-  std::printf("lab fit: E %.4g MPa, n %.4f, rebound %.4f, max_compression %.4f\n", m.modulus * 1e-6, m.exponent,
-              m.rebound, m.max_compression);
+  std::printf("lab fit: E %.4g MPa, n %.4f, rebound %.4f, max_compression %.4f\n", m.material.modulus_Pa * 1e-6, m.material.exponent,
+              m.material.rebound, m.material.max_compression);
   return 0;
 }
 
@@ -126,8 +130,10 @@ int run_dem(const Args& a) {
     o.rock_count = 18;
     o.piston_speed = 0.4;
   }
+  if (a.rocks > 0) o.rock_count = a.rocks;
+  if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   const chamber::PistonDieResult r = chamber::run_piston_die(bpm, o);
-  const chamber::FlowMaterial m = chamber::fit_flow_material(r);
+  const chamber::MaterialFit m = chamber::fit_flow_material(r);
 
   std::ofstream csv(a.out + "/piston_die.csv");
   csv << "s_max,phase,s,p_MPa\n";
@@ -143,7 +149,7 @@ int run_dem(const Args& a) {
   std::vector<double> sieves;
   for (double mm : sv) sieves.push_back(mm * 1e-3);
   for (const auto& L : r.loops) {
-    const auto pred = chamber::breakage_event(r.feed_passing, sieves, L.s_reached, m.breakage);
+    const auto pred = chamber::breakage_event(r.feed_passing, sieves, L.s_reached, m.material.breakage);
     for (std::size_t k = 0; k < sv.size(); ++k) {
       psd << L.s_max << "," << sv[k] << "," << f("%.4f", 100 * L.passing[k]) << "\n";
       fit << L.s_max << "," << sv[k] << "," << f("%.4f", 100 * pred[k]) << "\n";
@@ -167,10 +173,10 @@ int run_dem(const Args& a) {
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
   for (const auto& l : prov) std::printf("%s\n", l.c_str());
   std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",
-              r.loose_solid_fraction, m.modulus * 1e-6, m.exponent, m.pressure_fit.rms_log, m.rebound,
-              m.max_compression);
-  std::printf("breakage: s_c %.4f m %.4f q %.4f phi %.4f gamma %.4f beta %.4f (%s; rms %.2f %%)\n", m.breakage.s_c,
-              m.breakage.m, m.breakage.q, m.breakage.phi, m.breakage.gamma, m.breakage.beta,
+              r.loose_solid_fraction, m.material.modulus_Pa * 1e-6, m.material.exponent, m.pressure_fit.rms_log, m.material.rebound,
+              m.material.max_compression);
+  std::printf("breakage: s_c %.4f m %.4f q %.4f phi %.4f gamma %.4f beta %.4f (%s; rms %.2f %%)\n", m.material.breakage.s_c,
+              m.material.breakage.m, m.material.breakage.q, m.material.breakage.phi, m.material.breakage.gamma, m.material.breakage.beta,
               m.breakage_note.c_str(), m.psd_rms_pct);
   return 0;
 }

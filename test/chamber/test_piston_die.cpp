@@ -86,16 +86,16 @@ TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
     for (std::size_t k = 0; k < sv.size(); ++k) EXPECT_GE(L.passing[k], feed[k] - 1e-12);
     r.loops.push_back(L);
   }
-  const FlowMaterial m = fit_flow_material(r);
-  EXPECT_NEAR(m.modulus, 4e7, 1e-3 * 4e7);
-  EXPECT_NEAR(m.exponent, 2.0, 1e-6);
-  EXPECT_NEAR(m.max_compression, 0.3, 1e-12);
+  const MaterialFit m = fit_flow_material(r);
+  EXPECT_NEAR(m.material.modulus_Pa, 4e7, 1e-3 * 4e7);
+  EXPECT_NEAR(m.material.exponent, 2.0, 1e-6);
+  EXPECT_NEAR(m.material.max_compression, 0.3, 1e-12);
   EXPECT_LT(m.psd_rms_pct, 0.05);
-  EXPECT_NEAR(m.breakage.s_c, truth.s_c, 0.01);
-  EXPECT_NEAR(m.breakage.m, truth.m, 0.05);
-  EXPECT_NEAR(m.breakage.q, truth.q, 0.05);
-  EXPECT_NEAR(m.breakage.phi, truth.phi, 0.03);
-  EXPECT_NEAR(m.breakage.gamma, truth.gamma, 0.1);
+  EXPECT_NEAR(m.material.breakage.s_c, truth.s_c, 0.01);
+  EXPECT_NEAR(m.material.breakage.m, truth.m, 0.05);
+  EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
+  EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
+  EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
 }
 
 TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
@@ -106,12 +106,12 @@ TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
     for (int k = 0; k <= 25; ++k) out << 0.012 * k << "," << 80.0 * std::pow(0.012 * k, 2.5) << ",load\n";
     for (int k = 24; k >= 22; --k) out << 0.012 * k << "," << 80.0 * std::pow(0.3, 2.5) * (k - 22) / 3.0 << ",unload\n";
   }
-  const FlowMaterial m = fit_flow_material_lab(read_lab_csv(f));
-  EXPECT_NEAR(m.modulus, 80e6, 80e6 * 1e-6);
-  EXPECT_NEAR(m.exponent, 2.5, 1e-6);
-  EXPECT_NEAR(m.max_compression, 0.3, 1e-12);
+  const MaterialFit m = fit_flow_material_lab(read_lab_csv(f));
+  EXPECT_NEAR(m.material.modulus_Pa, 80e6, 80e6 * 1e-6);
+  EXPECT_NEAR(m.material.exponent, 2.5, 1e-6);
+  EXPECT_NEAR(m.material.max_compression, 0.3, 1e-12);
   // unloading from 0.3 to 0.264, p linear to 0: recovers 0.018 p_max of the 0.3 p_max / 3.5 loading work
-  EXPECT_NEAR(m.rebound, 0.018 * 3.5 / 0.3, 0.005);
+  EXPECT_NEAR(m.material.rebound, 0.018 * 3.5 / 0.3, 0.005);
   {
     std::ofstream out(f);
     out << "s,p_MPa\n0,0\n0.1,x\n";
@@ -188,15 +188,15 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
     finer += deep.passing[k] - a.passing[k];
   }
   EXPECT_GT(finer, 0.02);
-  const FlowMaterial m = fit_flow_material(r);
-  EXPECT_GT(m.exponent, 1.0);  // a stiffening bed
+  const MaterialFit m = fit_flow_material(r);
+  EXPECT_GT(m.material.exponent, 1.0);  // a stiffening bed
   // the DEM bed recovers a small part of the loading work; the law's rebound (fitted to the loop energies against
   // the power law's loading work, which a lumpy loose-bed curve may undershoot) is then small, possibly clipped to 0
   EXPECT_GT(1.0 - deep.loop_energy / deep.loading_work, 0.01);
-  EXPECT_GE(m.rebound, 0.0);
-  EXPECT_LT(m.rebound, 0.6);
-  EXPECT_NEAR(m.max_compression, deep.s_reached, 1e-12);
+  EXPECT_GE(m.material.rebound, 0.0);
+  EXPECT_LT(m.material.rebound, 0.6);
+  EXPECT_NEAR(m.material.max_compression, deep.s_reached, 1e-12);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("reduced die: %zu particles, loose %.3f, E %.3g MPa n %.3f rebound %.3f, %.1f s\n", r.particles,
-              r.loose_solid_fraction, m.modulus * 1e-6, m.exponent, m.rebound, wall);
+              r.loose_solid_fraction, m.material.modulus_Pa * 1e-6, m.material.exponent, m.material.rebound, wall);
 }
