@@ -155,7 +155,8 @@ std::string to_json(const RunSummary& s) {
     if (any) o << passing_at_mm(p.sieve_mm, p.passing_pct, 1); else o << "null";
     o << ",\n";
   } else {
-    o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"psd\": null,\n"
+    o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"mass_discharged_kg\": null,\n"
+      << "  \"mass_lost_kg\": null,\n  \"mass_crushed_kg\": null,\n  \"psd\": null,\n"
       << "  \"p80_mm\": null,\n  \"passing_12mm_pct\": null,\n  \"passing_1mm_pct\": null,\n";
   }
   o << "  \"simulated_s\": " << s.simulated_s << ",\n";

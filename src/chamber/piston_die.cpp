@@ -108,7 +108,11 @@ Die make_die(const dem::WorldParams& wp, double radius, double height, int threa
 }  // namespace
 
 const std::vector<double>& flow_sieves_mm() {
-  static const std::vector<double> s{1, 2, 4, 8, 12, 16, 22.4, 31.5, 40, 50, 63};
+  static const std::vector<double> s = [] {
+    std::vector<double> mm;
+    for (double x : FlowParams().sieves_m) mm.push_back(x * 1e3);  // the flow model's default sieves
+    return mm;
+  }();
   return s;
 }
 

@@ -110,7 +110,8 @@ PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double
 double path_integral(const std::vector<double>& s, const std::vector<double>& p);
 // Loss of one loop of mbd::bed_hysteretic from 0 to D and back: (1 - rebound) E D^(n+1) / (n + 1).
 double hysteretic_loop_loss(double E, double n, double rebound, double D);
-// rebound minimising sum (loss_model(D_i) - loss_i)^2, clipped to [0, 1]; rms residual (Pa) in *rms.
+// rebound minimising sum (loss_model(D_i) - loss_i)^2, clipped to [0.01, 1] (the law needs some recovery); rms
+// residual (Pa) in *rms.
 double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss,
                    double* rms = nullptr);
 

@@ -15,6 +15,9 @@
 namespace chamber {
 namespace {
 
+// The hysteretic law needs some elastic recovery (it unloads over rebound x D): the smallest rebound a config accepts.
+constexpr double kMinRebound = 0.01;
+
 double logistic(double u) { return 1.0 / (1.0 + std::exp(-u)); }
 double logit(double p) { return std::log(p / (1.0 - p)); }
 
@@ -143,7 +146,7 @@ double fit_rebound(double E, double n, const std::vector<double>& D, const std::
     ww += W * W, wl += W * loss[k];
   }
   if (!(ww > 0)) throw std::invalid_argument("fit_rebound: compressions must be > 0");
-  const double r = std::clamp(1.0 - wl / ww, 0.0, 1.0);
+  const double r = std::clamp(1.0 - wl / ww, kMinRebound, 1.0);
   if (rms) {
     double e = 0;
     for (std::size_t k = 0; k < D.size(); ++k) e += std::pow(hysteretic_loop_loss(E, n, r, D[k]) - loss[k], 2);

@@ -52,13 +52,19 @@ TEST(RunMetrics, JsonHasContractFieldsAndNullsWithoutParticles) {
   for (const char* key : {"amplitude_x_mm", "amplitude_y_mm", "amplitude_z_mm", "power_kW", "throughput_tph",
                           "specific_energy_kWh_per_t", "psd", "simulated_s", "wall_s"})
     EXPECT_NE(j.find(std::string("\"") + key + "\""), std::string::npos) << key;
-  EXPECT_NE(j.find("\"psd\": null"), std::string::npos);
+  for (const char* key : {"psd", "throughput_tph", "mass_discharged_kg", "p80_mm", "passing_12mm_pct"})
+    EXPECT_NE(j.find(std::string("\"") + key + "\": null"), std::string::npos) << key;
   s.product = analysis::ProductSummary{80.0, 10.0, {1, 12}, {2.0, 85.0}, 0.25};
   s.power_kW.mean = 76.0;
   j = analysis::to_json(s);
   EXPECT_NE(j.find("\"specific_energy_kWh_per_t\": 0.95"), std::string::npos) << j;
   EXPECT_NE(j.find("\"sieve_mm\": [1, 12]"), std::string::npos) << j;
   EXPECT_NE(j.find("\"mass_lost_kg\": 0.25"), std::string::npos) << j;
+  // 85 % passing 12 mm, 2 % passing 1 mm: P80 by log interpolation between them, both passing figures exact
+  EXPECT_NE(j.find("\"passing_12mm_pct\": 85"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"passing_1mm_pct\": 2,"), std::string::npos) << j;
+  const double p80 = std::exp(std::log(1.0) + (80.0 - 2.0) / 83.0 * std::log(12.0));
+  EXPECT_NE(j.find("\"p80_mm\": " + std::to_string(p80).substr(0, 6)), std::string::npos) << j << " " << p80;
 }
 
 TEST(RunMetrics, RejectsNonPositiveSpeed) {
