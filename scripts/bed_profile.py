@@ -14,7 +14,7 @@ import math
 import sys
 
 import numpy as np
-import yaml
+import config_yaml
 from bag_tools import open_bag
 
 
@@ -34,12 +34,12 @@ def main():
     ap.add_argument("--band-mm", type=float, default=50.0)
     a = ap.parse_args()
     try:
-        ch = yaml.safe_load(open(a.config))["mbd"]["chamber"]
+        ch = config_yaml.load(a.config)["mbd"]["chamber"]
         mz = [v / 1e3 for v in ch["mantle_z_mm"]]
         mr = [v / 1e3 for v in ch["mantle_r_mm"]]
         cz = [v / 1e3 for v in ch["concave_z_mm"]]
         cr = [v / 1e3 for v in ch["concave_r_mm"]]
-    except (OSError, KeyError, TypeError, yaml.YAMLError) as e:
+    except (OSError, KeyError, TypeError, ValueError, config_yaml.yaml.YAMLError) as e:
         sys.exit(f"bed_profile: {a.config}: no mbd.chamber.{{mantle,concave}}_{{z,r}}_mm ({e})")
     last = None
     with open_bag(a.bag, "bed_profile") as b:

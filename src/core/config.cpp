@@ -24,13 +24,43 @@ ConfigNode::ConfigNode(YAML::Node node, std::string path, std::string file)
       used_(std::make_shared<std::set<std::string>>()),
       children_(std::make_shared<std::vector<std::string>>()) {}
 
-ConfigNode ConfigNode::load_file(const std::string& file) {
+namespace {
+// A copy of `over` laid over a copy of `base`: mappings merge key by key (recursively), anything else replaces.
+YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string k = kv.first.as<std::string>();
+    out[k] = out[k] ? merged(out[k], kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+// The file's mapping with its `base:` chain resolved (a base path is relative to the file naming it).
+YAML::Node resolved(const std::string& file, int depth) {
   std::ifstream in(file);
   if (!in) throw ConfigError("config: cannot open '" + file + "'");
   std::stringstream ss;
   ss << in.rdbuf();
-  return load_string(ss.str(), file);
+  YAML::Node root;
+  try {
+    root = YAML::Load(ss.str());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("config " + file + ": not valid YAML: " + e.what());
+  }
+  if (!root.IsMap()) throw ConfigError("config " + file + ": the top level must be a mapping of keys");
+  if (!root["base"]) return root;
+  if (!root["base"].IsScalar()) throw ConfigError("config " + file + ": key 'base' must be a file name (a config)");
+  if (depth >= 8) throw ConfigError("config " + file + ": 'base' chains deeper than 8 files (a cycle?)");
+  std::string base = root["base"].as<std::string>();
+  const auto slash = file.find_last_of('/');
+  if (!base.empty() && base[0] != '/' && slash != std::string::npos) base = file.substr(0, slash + 1) + base;
+  root.remove("base");
+  return merged(resolved(base, depth + 1), root);
 }
+}  // namespace
+
+ConfigNode ConfigNode::load_file(const std::string& file) { return ConfigNode(resolved(file, 0), "", file); }
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   YAML::Node root;

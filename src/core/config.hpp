@@ -23,7 +23,10 @@ class ConfigNode {
  public:
   ConfigNode(YAML::Node node, std::string path, std::string file);
 
-  static ConfigNode load_file(const std::string& file);        // throws ConfigError
+  // Throws ConfigError. A top-level `base: FILE` (relative to this file) is loaded first and this file's keys laid
+  // over it: mappings merge key by key, lists and values replace (the 600 rpm config is the 400 rpm one plus what
+  // differs). Relative paths inside a config (material_file, bpm_file) stay relative to the file that is loaded.
+  static ConfigNode load_file(const std::string& file);
   static ConfigNode load_string(const std::string& text, const std::string& name = "<string>");
 
   bool has(const std::string& key) const;

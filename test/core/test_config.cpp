@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <functional>
+#include <set>
+#include <vector>
 
 #include "core/config.hpp"
 #include "core/units.hpp"
@@ -112,7 +115,7 @@ TEST(RunConfig, ReadsRunSectionAndRejectsBadLoad) {
   auto bad = ConfigNode::load_string("run: {duration_s: 5, load: rocks}\n");
   auto msg = message_of([&] { core::load_run_options(bad.child("run")); });
   EXPECT_NE(msg.find("run.load"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("none, bed, dem"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("none, bed, flow, dem"), std::string::npos) << msg;
 }
 
 TEST(RunConfig, CheckpointIntervalIsOffByDefaultAndMustNotBeNegative) {
@@ -162,4 +165,46 @@ TEST(RunConfig, CouplingIntervalIsAWholeNumberOfMechanismSteps) {
     EXPECT_NO_THROW(core::coupling_steps(coupling_dt, mech_dt)) << name;
     EXPECT_DOUBLE_EQ(coupling_dt, 1e-3) << name << ": the paper's 1000 Hz exchange (Table 4)";
   }
+}
+
+// `base:` inheritance: mappings merge key by key, lists and values replace, the base path is relative to the file
+// naming it, a cycle is refused by name.
+TEST(Config, BaseConfigIsLaidUnderTheFile) {
+  const std::string dir = ::testing::TempDir();
+  std::ofstream(dir + "/cfg_base.yaml") << "a:\n  k: 1\n  list: [1, 2, 3]\n  sub: {x: 1, y: 2}\nb: 5\n";
+  std::ofstream(dir + "/cfg_over.yaml") << "base: cfg_base.yaml\na:\n  list: [9]\n  sub: {y: 7}\n";
+  auto root = ConfigNode::load_file(dir + "/cfg_over.yaml");
+  auto a = root.child("a");
+  EXPECT_EQ(a.number("k", 0, 10), 1);
+  EXPECT_EQ(a.numbers("list", 0, 10), std::vector<double>{9});
+  auto sub = a.child("sub");
+  EXPECT_EQ(sub.number("x", 0, 10), 1);
+  EXPECT_EQ(sub.number("y", 0, 10), 7);
+  EXPECT_EQ(root.number("b", 0, 10), 5);
+  EXPECT_FALSE(root.has("base"));
+  EXPECT_NO_THROW(root.finish());
+  std::ofstream(dir + "/cfg_loop.yaml") << "base: cfg_loop.yaml\n";
+  const auto msg = message_of([&] { ConfigNode::load_file(dir + "/cfg_loop.yaml"); });
+  EXPECT_NE(msg.find("cycle"), std::string::npos) << msg;
+}
+
+// The shipped 600 rpm config is the 400 rpm one plus the drive speed and the time step, nothing else.
+TEST(Config, The600RpmConfigDiffersFromThe400RpmOneInSpeedAndStepOnly) {
+  const std::string dir = std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/";
+  const auto c400 = ConfigNode::load_file(dir + "gyp1200_400rpm.yaml").raw();
+  const auto c600 = ConfigNode::load_file(dir + "gyp1200_600rpm.yaml").raw();
+  std::vector<std::string> differ;
+  std::function<void(const YAML::Node&, const YAML::Node&, const std::string&)> walk =
+      [&](const YAML::Node& x, const YAML::Node& y, const std::string& path) {
+        if (x.IsMap() && y.IsMap()) {
+          std::set<std::string> keys;
+          for (const auto& kv : x) keys.insert(kv.first.as<std::string>());
+          for (const auto& kv : y) keys.insert(kv.first.as<std::string>());
+          for (const auto& k : keys) walk(x[k], y[k], path.empty() ? k : path + "." + k);
+        } else if (YAML::Dump(x) != YAML::Dump(y)) {
+          differ.push_back(path);
+        }
+      };
+  walk(c400, c600, "");
+  EXPECT_EQ(differ, (std::vector<std::string>{"mbd.drive.speed_rpm", "mbd.time_step_s"}));
 }

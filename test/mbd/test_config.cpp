@@ -49,11 +49,11 @@ std::string replace(std::string s, const std::string& from, const std::string& t
 
 TEST(MbdConfig, ShippedConfigsLoad) {
   EXPECT_NO_THROW(load_text(read_400()));
-  std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_600rpm.yaml");
-  std::stringstream s;
-  s << in.rdbuf();
-  const auto p = load_text(s.str());
+  // The 600 rpm config names the 400 rpm one as its base (ConfigNode::load_file resolves it).
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_600rpm.yaml");
+  const auto p = mbd::load_mechanism_params(root.child("mbd"));
   EXPECT_NEAR(p.drive_speed_rad_s, 600 * 2 * M_PI / 60, 1e-12);
+  EXPECT_NEAR(p.dt_s, 5e-4, 1e-15);
 }
 
 TEST(MbdConfig, UnknownKeyNamed) {
