@@ -3,6 +3,7 @@
 // and std of amplitude and power, throughput and specific energy, plus P80, the product index and wall time; which
 // values were calibrated (400 rpm only), the trends of the paper's section 4.3. Writes DIR/validation.json.
 //   validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]
+// (--seconds and --settle default to each config's run.duration_s and run.settle_s)
 // A report: exit 0 when both runs ran, whatever the errors.
 #include <sys/stat.h>
 
@@ -45,14 +46,16 @@ struct Case {
   double simulated_s = 0;
 };
 
-Case run_case(const std::string& file, const std::string& load, double seconds, double settle) {
+Case run_case(const std::string& file, const std::string& load, double seconds, double& settle) {
   auto root = core::ConfigNode::load_file(file);
   const auto mech = mbd::load_mechanism_params(root.child("mbd"));
   const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
-  if (root.has("run")) core::load_run_options(root.child("run"));
+  const auto run = core::load_run_options(root.child("run"));
   core::load_coupling_options(root.child_or_empty("coupling"));
   root.ignore("dem");
   root.finish();
+  if (seconds <= 0) seconds = run.duration_s;  // the config's own run: what `crusher run CONFIG` would do
+  if (settle < 0) settle = run.settle_s;
   Case c;
   c.simulated_s = seconds + settle;
   if (load == "flow") {
@@ -115,7 +118,7 @@ void usage() {
 
 int main(int argc, char** argv) {
   std::string c400, c600, out, load = "flow";
-  double seconds = 10, settle = 4;
+  double seconds = 0, settle = -1;  // the configs' run.duration_s and run.settle_s unless given
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") return usage(), 0;
@@ -135,10 +138,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   Case a, b;
+  double settle_used = settle;
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    a = run_case(c400, load, seconds, settle);
-    b = run_case(c600, load, seconds, settle);
+    a = run_case(c400, load, seconds, settle_used);
+    double settle600 = settle;
+    b = run_case(c600, load, seconds, settle600);
   } catch (const std::exception& e) {
     std::cerr << "validate: " << e.what() << "\n";
     return 1;
@@ -183,7 +188,7 @@ int main(int argc, char** argv) {
   ::mkdir(out.c_str(), 0755);
   std::ofstream j(out + "/validation.json");
   j << "{\n  \"load\": \"" << load << "\",\n  \"config400\": \"" << c400 << "\",\n  \"config600\": \"" << c600
-    << "\",\n  \"simulated_s\": " << a.simulated_s << ",\n  \"settle_s\": " << settle << ",\n  \"rows\": [\n";
+    << "\",\n  \"simulated_s\": " << a.simulated_s << ",\n  \"settle_s\": " << settle_used << ",\n  \"rows\": [\n";
   for (std::size_t i = 0; i < kRows.size(); ++i) {
     const auto& r = kRows[i];
     j << "    {\"quantity\": \"" << r.key << "\", \"label\": \"" << r.label << "\", \"exp400\": " << num(r.exp400)

@@ -12,7 +12,8 @@ c["mbd"]["effects"]["motor_droop"] = {"enabled": True, "droop_rad_s_per_kNm": 0.
 yaml.safe_dump(c, open(sys.argv[2], "w"))
 PY
 diagnose_bag() {  # CONFIG NAME: record 7 s, keep t > 4 s (start-up left out), diagnose against the base
-  rosrun inertia_crusher mbd_node _config:="$1" _out:="$out/$2" _duration:=7 >"$out/$2.log" 2>&1
+  # the diagnosis models the mechanism with the equivalent bed (analysis/mbd_model.hpp): record the same load
+  rosrun inertia_crusher mbd_node _config:="$1" _load:=bed _out:="$out/$2" _duration:=7 >"$out/$2.log" 2>&1
   rosbag filter "$out/$2/run.bag" "$out/$2/steady.bag" "t.to_sec() > 4.0" >/dev/null
   rosrun inertia_crusher diagnose --recording "$out/$2/steady.bag" --config "$base" --setpoint-rpm 400 \
     --no-plots --out "$out/$2/diag" >"$out/$2/diag.log" 2>&1 || { tail -n 20 "$out/$2/diag.log"; exit 1; }
