@@ -21,6 +21,7 @@ Breakage::Breakage(const std::vector<double>& sieves, const BreakageParams& p) :
     lo_.push_back(lo);
     up_.push_back(up);
     x_.push_back(j == 0 ? 0.5 * sieves[0] : std::sqrt(lo * up));
+    sc_.push_back(p.s_c * std::pow(x_.back() / p.x_ref, -p.q));
   }
   const std::size_t n = x_.size();
   B_.assign(n * n, 0.0);
@@ -42,8 +43,7 @@ Breakage::Breakage(const std::vector<double>& sieves, const BreakageParams& p) :
 
 double Breakage::selection(std::size_t j, double s) const {
   if (s <= 0) return 0.0;
-  const double sc = p_.s_c * std::pow(x_[j] / p_.x_ref, -p_.q);
-  return 1.0 - std::exp(-std::pow(s / sc, p_.m));
+  return 1.0 - std::exp(-std::pow(s / sc_[j], p_.m));
 }
 
 void Breakage::apply(double s, double* f) const {

@@ -35,7 +35,7 @@ class Breakage {
 
  private:
   BreakageParams p_;
-  std::vector<double> x_, lo_, up_, B_;
+  std::vector<double> x_, lo_, up_, sc_, B_;  // sc_: s_cj per class
   mutable std::vector<double> work_;
 };
 
