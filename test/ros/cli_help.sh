@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Every subcommand of scripts/crusher answers --help with its usage (exit 0, the subcommand named), without
-# building or installing anything; an unknown subcommand is refused naming the accepted ones.
+# building or installing anything; an unknown subcommand is refused naming the accepted ones; `run --duration`
+# at or below the settle time is refused.
 set -euo pipefail
 crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
 for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording build setup env; do
@@ -11,4 +12,8 @@ done
 bash "$crusher" --help | grep -q "crusher validate" || { echo "FAIL: crusher --help lacks validate"; exit 1; }
 if msg=$(bash "$crusher" frobnicate 2>&1); then echo "FAIL: an unknown subcommand was accepted"; exit 1; fi
 grep -q "accepted: demo" <<<"$msg" || { echo "FAIL: unknown subcommand message: $msg"; exit 1; }
-echo "every subcommand answers --help"
+# A run shorter than its settle time has no summary window: refused before building, naming both.
+if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" run "$CRUSHER_SOURCE_DIR/launch_free_configs/gyp1200_400rpm.yaml" \
+    --duration 3 --out "$(mktemp -d)" 2>&1); then echo "FAIL: --duration 3 below settle_s 4 was accepted"; exit 1; fi
+grep -q "run.settle_s = 4" <<<"$msg" || { echo "FAIL: the duration guard does not name run.settle_s: $msg"; exit 1; }
+echo "every subcommand answers --help; a run shorter than its settle time is refused"
