@@ -1,7 +1,8 @@
 // Calibration of the flow mode's machine unknowns at 400 rpm ONLY (the 600 rpm case stays a validation): the
 // vibrator's static moment and the concave's radius at the discharge and at the feed opening (the paper gives
 // neither the static moment nor the chamber profile or CSS), fitted by Nelder-Mead to Table 5's EXP 400 rpm
-// amplitude, power and throughput with the chamber flow model as the load.
+// amplitude, power and throughput with the chamber flow model as the load, within plausible ranges: static moment
+// 50-250 kg m, each radius within 20 mm of the config's.
 //   calibrate_flow --config launch_free_configs/gyp1200_400rpm.yaml --out DIR [--evaluations N] [--seconds S]
 //                  [--settle S]
 // Writes DIR/calibration_flow.json (fitted values, what each sets, the figures reached) and DIR/calibrated_mbd.yaml
@@ -9,6 +10,7 @@
 #include <sys/stat.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -75,7 +77,13 @@ int main(int argc, char** argv) {
     o.settle_s = settle;
     const auto t0 = std::chrono::steady_clock::now();
     int n = 0;
+    // Plausible ranges (a GYP1200's unbalance; a chamber that still takes -50 mm feed and discharges a ~10 mm
+    // product): outside them the cost rises steeply, so the simplex stays inside.
+    const double lo[] = {50.0, -20.0, -20.0}, hi[] = {250.0, 20.0, 20.0};
     auto cost = [&](const std::vector<double>& x) {
+      double out = 0;
+      for (int i = 0; i < 3; ++i) out += std::pow(std::max({0.0, lo[i] - x[i], x[i] - hi[i]}) / (hi[i] - lo[i]), 2);
+      if (out > 0) return 10.0 + 100.0 * out;
       const auto m = apply(x);
       try {
         core::validate_chamber_geometry(m.chamber);

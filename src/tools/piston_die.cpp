@@ -10,7 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "chamber/piston_die.hpp"
 
@@ -25,13 +27,14 @@ struct Args {
   unsigned long long seed = 1;
   double dt_safety = 0.0;  // 0: the library's default
   int rocks = 0;           // 0: the library's default
+  std::vector<double> ratios;  // empty: the library's default
   double die_mm = 0;       // 0: the library's default
 };
 
 [[noreturn]] void usage(const std::string& why) {
   std::fprintf(stderr,
                "piston_die: %s\nusage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] "
-               "[--dt-safety X] [--rocks N] [--die-mm D] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
+               "[--dt-safety X] [--rocks N] [--die-mm D] [--ratios S1,S2,...] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
                "or 0/1) fitted instead of the DEM test\n",
                why.c_str());
   std::exit(2);
@@ -58,7 +61,16 @@ Args parse(int argc, char** argv) {
     else if (s == "--bpm") a.bpm = value();
     else if (s == "--lab") a.lab = value();
     else if (s == "--quick") a.quick = true;
-    else if (s == "--rocks") a.rocks = static_cast<int>(integer(s, value(), 1, 100000));
+    else if (s == "--ratios") {
+      std::stringstream list(value());
+      for (std::string item; std::getline(list, item, ',');) {
+        char* end = nullptr;
+        const double x = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end || !(x > 0 && x <= 0.6))
+          usage("--ratios takes ascending compression ratios in (0, 0.6] separated by commas, got '" + item + "'");
+        a.ratios.push_back(x);
+      }
+    } else if (s == "--rocks") a.rocks = static_cast<int>(integer(s, value(), 1, 100000));
     else if (s == "--die-mm") a.die_mm = static_cast<double>(integer(s, value(), 50, 2000));
     else if (s == "--threads") a.threads = static_cast<int>(integer(s, value(), 1, 256));
     else if (s == "--seed") a.seed = static_cast<unsigned long long>(integer(s, value(), 1, 1000000000));
@@ -69,7 +81,7 @@ Args parse(int argc, char** argv) {
       if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
         usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
     } else if (s == "-h" || s == "--help") usage("help");
-    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, --die-mm, --lab)");
+    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, --die-mm, --ratios, --lab)");
   }
   if (a.out.empty()) usage("--out DIR is required");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");
@@ -132,6 +144,7 @@ int run_dem(const Args& a) {
   }
   if (a.rocks > 0) o.rock_count = a.rocks;
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
+  if (!a.ratios.empty()) o.compression_ratios = a.ratios;
   const chamber::PistonDieResult r = chamber::run_piston_die(bpm, o);
   const chamber::MaterialFit m = chamber::fit_flow_material(r);
 

@@ -15,7 +15,7 @@ using namespace analysis;
 namespace {
 
 mbd::MechanismParams base_params() {
-  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm_bed.yaml");
   return mbd::load_mechanism_params(root.child("mbd"));
 }
 

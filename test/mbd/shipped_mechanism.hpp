@@ -7,7 +7,8 @@
 
 namespace test_mbd {
 
-inline mbd::MechanismParams shipped_mechanism(const std::string& name = "gyp1200_400rpm.yaml") {
+// The mbd tests exercise the mechanism with the equivalent bed: its calibrated configs by default.
+inline mbd::MechanismParams shipped_mechanism(const std::string& name = "gyp1200_400rpm_bed.yaml") {
   const auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + name);
   return mbd::load_mechanism_params(root.child("mbd"));
 }

@@ -118,7 +118,8 @@ TEST(MbdConfig, GeometryOrderChecked) {
 }
 
 TEST(MbdConfig, ChamberMustEnclose) {
-  const auto msg = error_of(replace(read_400(), "    concave_r_mm: [194, 662]", "    concave_r_mm: [194, 560]"));
+  const auto msg = error_of(std::regex_replace(read_400(), std::regex("    concave_r_mm: \\[[0-9., ]+\\]"),
+                                                "    concave_r_mm: [194, 560]"));
   EXPECT_NE(msg.find("mbd.chamber.mantle_r_mm"), std::string::npos) << msg;
 }
 

@@ -33,7 +33,7 @@ TEST(Mechanism, CycleAmplitudeIsHalfPeakToPeak) {
 }
 
 TEST(Mechanism, ConstraintErrorBoundedOverLongRun) {
-  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
+  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm_bed.yaml");
   mbd::Mechanism m(p, mbd::LoadModel::Bed);
   double worst = 0;
   const long steps = std::lround(20.0 / p.dt_s);
@@ -53,7 +53,7 @@ TEST(Mechanism, ConstraintErrorBoundedOverLongRun) {
 }
 
 TEST(Mechanism, DominantFrequencyIsTheDriveFrequency) {
-  for (const char* name : {"gyp1200_400rpm.yaml", "gyp1200_600rpm.yaml"}) {
+  for (const char* name : {"gyp1200_400rpm_bed.yaml", "gyp1200_600rpm_bed.yaml"}) {
     const auto p = test_mbd::shipped_mechanism(name);
     mbd::SimOptions o;
     o.duration_s = 6.0;
@@ -74,7 +74,7 @@ TEST(Mechanism, DominantFrequencyIsTheDriveFrequency) {
 TEST(Mechanism, PowerBalanceOverWholeCycles) {
   for (int c = 0; c < 3; ++c) {
     const auto model = c == 2 ? mbd::LoadModel::None : mbd::LoadModel::Bed;
-    auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
+    auto p = test_mbd::shipped_mechanism("gyp1200_400rpm_bed.yaml");
     if (c == 1) {  // hysteretic bed: its path-dependent force is booked through the stored energy
       p.bed.law = mbd::BedLaw::Hysteretic;
       p.bed.rebound = 0.14;
@@ -105,7 +105,7 @@ namespace {
 TEST(Mechanism, HystereticBedBalanceThroughTheStartUp) {
   // During the drive ramp the bed's stored energy changes (at steady state it only rotates with the load),
   // so this run checks that the stored part is booked out of the dissipation.
-  auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
+  auto p = test_mbd::shipped_mechanism("gyp1200_400rpm_bed.yaml");
   p.bed.law = mbd::BedLaw::Hysteretic;
   p.bed.rebound = 0.14;
   p.bed.viscosity_Pa_s = 0;
@@ -122,7 +122,7 @@ TEST(Mechanism, HystereticBedBalanceThroughTheStartUp) {
 }
 
 TEST(Mechanism, WarmStartIsTheSameRunWithTheClockSetBack) {
-  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm.yaml");
+  const auto p = test_mbd::shipped_mechanism("gyp1200_400rpm_bed.yaml");
   mbd::Mechanism cold(p, mbd::LoadModel::Bed), warm(p, mbd::LoadModel::None);
   cold.advance(3.0);
   warm.warm_start(3.0, mbd::LoadModel::Bed);  // bed during the warm start, idle afterwards

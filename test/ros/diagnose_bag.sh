@@ -3,17 +3,18 @@
 # `none` (nothing missing), and a run with a concealed effect (motor droop) must be named.
 source "$(dirname "$0")/ros_env.bash"
 start_master
-base=$src/launch_free_configs/gyp1200_400rpm.yaml
+base=$src/launch_free_configs/gyp1200_400rpm_bed.yaml  # the diagnosis models the bed load (analysis/mbd_model.hpp)
 # The plant: the base model with the motor's speed drooping under load (the paper assumes a stable speed).
-/usr/bin/python3 - "$base" "$out/plant.yaml" <<'PY'
+/usr/bin/python3 - "$base" "$out/plant.yaml" "$src/scripts" <<'PY'
 import sys, yaml
-c = yaml.safe_load(open(sys.argv[1]))
+sys.path.insert(0, sys.argv[3])
+import config_yaml  # the config with its base resolved
+c = config_yaml.load(sys.argv[1])
 c["mbd"]["effects"]["motor_droop"] = {"enabled": True, "droop_rad_s_per_kNm": 0.5}
 yaml.safe_dump(c, open(sys.argv[2], "w"))
 PY
 diagnose_bag() {  # CONFIG NAME: record 7 s, keep t > 4 s (start-up left out), diagnose against the base
-  # the diagnosis models the mechanism with the equivalent bed (analysis/mbd_model.hpp): record the same load
-  rosrun inertia_crusher mbd_node _config:="$1" _load:=bed _out:="$out/$2" _duration:=7 >"$out/$2.log" 2>&1
+  rosrun inertia_crusher mbd_node _config:="$1" _out:="$out/$2" _duration:=7 >"$out/$2.log" 2>&1
   rosbag filter "$out/$2/run.bag" "$out/$2/steady.bag" "t.to_sec() > 4.0" >/dev/null
   rosrun inertia_crusher diagnose --recording "$out/$2/steady.bag" --config "$base" --setpoint-rpm 400 \
     --no-plots --out "$out/$2/diag" >"$out/$2/diag.log" 2>&1 || { tail -n 20 "$out/$2/diag.log"; exit 1; }
