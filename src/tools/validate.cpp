@@ -3,7 +3,8 @@
 // and std of amplitude and power, throughput and specific energy, plus P80, the product index and wall time; which
 // values were calibrated (400 rpm only), the trends of the paper's section 4.3. Writes DIR/validation.json.
 //   validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]
-// (--seconds and --settle default to each config's run.duration_s and run.settle_s)
+// (--seconds, the window after the settle, and --settle default to each config's run.duration_s - settle_s and
+// run.settle_s, the run `crusher run CONFIG` makes)
 // A report: exit 0 when both runs ran, whatever the errors.
 #include <sys/stat.h>
 
@@ -54,8 +55,10 @@ Case run_case(const std::string& file, const std::string& load, double seconds, 
   core::load_coupling_options(root.child_or_empty("coupling"));
   root.ignore("dem");
   root.finish();
-  if (seconds <= 0) seconds = run.duration_s;  // the config's own run: what `crusher run CONFIG` would do
+  // The config's own run, as `crusher run CONFIG` does it: run.duration_s in all, the summary after run.settle_s.
   if (settle < 0) settle = run.settle_s;
+  if (seconds <= 0) seconds = run.duration_s - settle;
+  if (!(seconds > 0)) throw std::invalid_argument(file + ": run.duration_s must exceed the settle time");
   Case c;
   c.simulated_s = seconds + settle;
   if (load == "flow") {
