@@ -8,7 +8,6 @@
 
 namespace chamber {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kCountedCompression = 0.02;  // events below 2 % compression break (S(s) is small) but are not counted
 
 void require(bool ok, const std::string& what) {
@@ -50,18 +49,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   z_lo_ = std::max(lo(mantle), lo(concave));
   const double z_hi = std::min(hi(mantle), hi(concave));
   require(z_hi > z_lo_, "the mantle and the concave share no height");
-  dz_ = (z_hi - z_lo_) / p.bands;
-  for (int b = 0; b < p.bands; ++b) {
-    const double z0 = z_lo_ + b * dz_, z1 = z0 + dz_, r0 = concave.radius_at(z0), r1 = concave.radius_at(z1);
-    z_mid_.push_back(0.5 * (z0 + z1));
-    r_mid_.push_back(concave.radius_at(z_mid_.back()));
-    area_.push_back(2 * kPi * 0.5 * (r0 + r1) * std::hypot(dz_, r1 - r0) / p.sectors);
-  }
-  for (int s = 0; s < p.sectors; ++s) {
-    const double a = (s + 0.5) * 2 * kPi / p.sectors;
-    cos_.push_back(std::cos(a));
-    sin_.push_back(std::sin(a));
-  }
+  const auto cells = core::concave_cells(concave, z_lo_, z_hi, p.bands, p.sectors);
+  dz_ = cells.dz;
+  z_mid_ = cells.z_mid, r_mid_ = cells.r_mid, area_ = cells.area, cos_ = cells.cos, sin_ = cells.sin;
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
@@ -172,7 +162,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
     Eigen::Vector2d nzr;
     const double g = std::max(0.0, -mantle_.signed_distance(xm.z(), rho, &nzr));
-    closing_[k] = prefilled_ && g < gap_[k];  // Evertsson: rock is held while the gap closes on it
+    const double g_before = gap_[k], p_before = pressure_[k];
+    closing_[k] = prefilled_ && g < g_before;  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
     pressure_[k] = 0;
     const double cap = area_[b] * g * rho0_;  // loose mass the cell's space holds
@@ -180,7 +171,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     double m = total_[k];
     // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below.
     const double m_max = cap / (1.0 - mat.max_compression);
-    if (m > m_max) {
+    const bool extruded = m > m_max;
+    if (extruded) {
       send_down(k, m - m_max, nullptr);
       m = m_max;
     }
@@ -196,10 +188,17 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       const double D = before.emax - before.e0;
       breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
       total_[k] = sum_classes(k);
-      energy_ += m / rho0_ * (1.0 - mat.rebound) * mat.modulus_Pa * std::pow(D, mat.exponent + 1) / (mat.exponent + 1);
       if (D >= kCountedCompression) count_[k] += 1, ++events_;
     }
     pressure_[k] = p;
+    // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic
+    // law's loss (1 - rebound) E D^(n+1) / (n + 1) per loose volume, plus, at the compaction limit, the work of
+    // pressing rock out of the nip.
+    if (prefilled_) {
+      const double dW = 0.5 * (p_before + p) * area_[b] * (g_before - g);
+      energy_ += dW;
+      if (extruded) extrusion_ += dW;
+    }
     if (p <= 0) continue;
     const double inv = 1.0 / std::max(rho, 1e-12);
     const Eigen::Vector3d n = mantle.linear() * Eigen::Vector3d(nzr.y() * xm.x() * inv, nzr.y() * xm.y() * inv, nzr.x());
@@ -260,8 +259,10 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put_vec(mem);
   w.put_vec(out_);
   w.put_vec(gap_);
+  w.put_vec(pressure_);
   w.put(fed_);
   w.put(energy_);
+  w.put(extrusion_);
   w.put(out_count_);
   w.put<int64_t>(events_);
   w.put<char>(prefilled_);
@@ -279,15 +280,17 @@ void FlowModel::load_state(core::BinaryReader& r) {
   r.get_vec(count);
   r.get_vec(mem);
   r.get_vec(out);
-  std::vector<double> gap;
+  std::vector<double> gap, pressure;
   r.get_vec(gap);
+  r.get_vec(pressure);
   if (mass.size() != n * classes() || speed.size() != n || count.size() != n || mem.size() != 2 * n ||
-      out.size() != classes() || gap.size() != n)
+      out.size() != classes() || gap.size() != n || pressure.size() != n)
     r.fail("flow model state is corrupt");
-  mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap;
+  mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap, pressure_ = pressure;
   for (std::size_t k = 0; k < n; ++k) memory_[k] = {mem[2 * k], mem[2 * k + 1]}, total_[k] = sum_classes(k);
   r.get(fed_);
   r.get(energy_);
+  r.get(extrusion_);
   r.get(out_count_);
   events_ = static_cast<long>(r.get<int64_t>());
   prefilled_ = r.get<char>() != 0;

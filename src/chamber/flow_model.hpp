@@ -12,8 +12,9 @@
 //    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
 //    extruded into the cell below (out from the bottom band).
 //  - Breakage: each completed compression event (one loading-unloading loop of ratio s = smax - s0) breaks every
-//    class of the cell by the selection and breakage functions (breakage.hpp); mass conserved; its energy, the
-//    law's loss (1 - rebound) E s^(n+1) / (n + 1) per loose volume, is booked as crushing energy.
+//    class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing energy
+//    is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
+//    (1 - rebound) E s^(n+1) / (n + 1) per loose volume, plus the work of extrusion at the compaction limit.
 //  - Flow (Evertsson 1999): rock is held while the gap closes on it and while it is pressed; while the gap opens it
 //    falls under gravity into the cell below as far as that cell has room (its rock would still be loose) and a lump
 //    only through a gap wider than itself (classes above the gap below are retained); rock resting on falling rock
@@ -59,11 +60,7 @@ struct FlowParams {
   FlowParams();
 };
 
-struct FlowLoads {  // on each liner, about the given centres of mass (world frame)
-  Eigen::Vector3d f_mantle = Eigen::Vector3d::Zero(), t_mantle = Eigen::Vector3d::Zero();
-  Eigen::Vector3d f_concave = Eigen::Vector3d::Zero(), t_concave = Eigen::Vector3d::Zero();
-  double normal_force = 0;  // N, sum of p A
-};
+using FlowLoads = core::LinerLoads;  // on each liner, about the given centres of mass (world frame)
 
 class FlowModel {
  public:
@@ -95,7 +92,10 @@ class FlowModel {
   double fed_kg() const { return fed_; }
   double discharged_kg() const;
   const std::vector<double>& discharged_by_class() const { return out_; }  // kg, cumulative
-  double crushing_energy_J() const { return energy_; }                     // booked by the events
+  // The liners' work on the rock so far (J): the loops' losses (and what the pressed cells hold elastically now),
+  // including the work of pressing rock out of the nip at the compaction limit (extrusion_energy_J, a part of it).
+  double crushing_energy_J() const { return energy_; }
+  double extrusion_energy_J() const { return extrusion_; }
   long events() const { return events_; }  // compression events of at least 2 % so far
   double product_compressions() const;  // mean compression events of the discharged rock
   // Cumulative fraction passing each sieve of a mass-by-class vector (0..1).
@@ -115,7 +115,7 @@ class FlowModel {
   std::vector<mbd::BedCell> memory_;
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
   std::vector<double> out_, pass_;  // discharged per class (cumulative); scratch
-  double fed_ = 0, energy_ = 0, out_count_ = 0;
+  double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
   long events_ = 0;
   bool prefilled_ = false;
 

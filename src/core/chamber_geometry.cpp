@@ -114,6 +114,25 @@ double ProfileDistance::signed_distance(double z, double r, Eigen::Vector2d* nzr
   return side >= 0 ? d : -d;
 }
 
+ConcaveCells concave_cells(const Profile& concave, double z_lo, double z_hi, int bands, int sectors) {
+  constexpr double kPi = 3.14159265358979323846;
+  ConcaveCells c;
+  c.z_lo = z_lo;
+  c.dz = (z_hi - z_lo) / bands;
+  for (int b = 0; b < bands; ++b) {
+    const double z0 = z_lo + b * c.dz, z1 = z0 + c.dz, r0 = concave.radius_at(z0), r1 = concave.radius_at(z1);
+    c.z_mid.push_back(0.5 * (z0 + z1));
+    c.r_mid.push_back(concave.radius_at(c.z_mid.back()));
+    c.area.push_back(2 * kPi * 0.5 * (r0 + r1) * std::hypot(c.dz, r1 - r0) / sectors);
+  }
+  for (int s = 0; s < sectors; ++s) {
+    const double a = (s + 0.5) * 2 * kPi / sectors;
+    c.cos.push_back(std::cos(a));
+    c.sin.push_back(std::sin(a));
+  }
+  return c;
+}
+
 static void check_profile(const Profile& p, const std::string& name, const std::string& zkey,
                           const std::string& rkey, const ConfigNode* node) {
   auto bad = [&](const std::string& key, const std::string& what) {

@@ -55,6 +55,23 @@ class ProfileDistance {
   std::vector<Seg> segs_;
 };
 
+// Cells on the concave's surface (liner frame): `bands` equal height bands over [z_lo, z_hi] x `sectors` equal
+// sectors. Per band its mid height, the concave's radius there and one cell's area (the band's conical strip divided
+// by the sectors); per sector the cosine and sine of its mid azimuth. The continuum beds' cells (chamber flow model,
+// retained fines).
+struct ConcaveCells {
+  double z_lo = 0, dz = 0;
+  std::vector<double> z_mid, r_mid, area, cos, sin;
+};
+ConcaveCells concave_cells(const Profile& concave, double z_lo, double z_hi, int bands, int sectors);
+
+// Loads of a continuum bed on each liner, about the given centres of mass (world frame).
+struct LinerLoads {
+  Eigen::Vector3d f_mantle = Eigen::Vector3d::Zero(), t_mantle = Eigen::Vector3d::Zero();
+  Eigen::Vector3d f_concave = Eigen::Vector3d::Zero(), t_concave = Eigen::Vector3d::Zero();
+  double normal_force = 0;  // N, sum of p A
+};
+
 // Reads `mantle_z_mm`, `mantle_r_mm`, `concave_z_mm`, `concave_r_mm` (lists in mm) of `node`.
 // Throws ConfigError naming the key when lengths differ, z is not monotonic, r <= 0, or the concave
 // does not enclose the mantle over their common height (gap must stay > 0 in the untilted assembly).

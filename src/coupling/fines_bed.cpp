@@ -25,19 +25,10 @@ FinesBed::FinesBed(const FinesBedParams& p, const core::Profile& mantle, const c
   require(p.max_strain > 0 && p.max_strain < 1, "max_strain must be in (0, 1)");
   require(classes >= 1 && solid_density > 0, "needs sieve classes and a rock density");
   rho_bulk_ = p.bulk_fraction * solid_density;
-  z_lo_ = std::min(concave.z.front(), concave.z.back());
-  dz_ = (std::max(concave.z.front(), concave.z.back()) - z_lo_) / p.bands;
-  for (int b = 0; b < p.bands; ++b) {
-    const double z0 = z_lo_ + b * dz_, z1 = z0 + dz_, r0 = concave.radius_at(z0), r1 = concave.radius_at(z1);
-    z_mid_.push_back(0.5 * (z0 + z1));
-    r_mid_.push_back(concave.radius_at(z_mid_.back()));
-    area_.push_back(2 * kPi * 0.5 * (r0 + r1) * std::hypot(dz_, r1 - r0) / p.sectors);
-  }
-  for (int s = 0; s < p.sectors; ++s) {
-    const double a = (s + 0.5) * 2 * kPi / p.sectors;
-    cos_.push_back(std::cos(a));
-    sin_.push_back(std::sin(a));
-  }
+  const auto cells = core::concave_cells(concave, std::min(concave.z.front(), concave.z.back()),
+                                         std::max(concave.z.front(), concave.z.back()), p.bands, p.sectors);
+  z_lo_ = cells.z_lo, dz_ = cells.dz;
+  z_mid_ = cells.z_mid, r_mid_ = cells.r_mid, area_ = cells.area, cos_ = cells.cos, sin_ = cells.sin;
   const std::size_t n = static_cast<std::size_t>(p.bands) * p.sectors;
   mass_.assign(n * classes_, 0.0);
   speed_.assign(n, 0.0);

@@ -34,11 +34,7 @@ struct FinesBedParams {
   double max_strain = 0.35;     // compaction limit (0.55 -> 0.85 solid): fines pressed past it are extruded
 };
 
-struct FinesLoads {  // on each liner, about the given centres of mass (world frame)
-  Eigen::Vector3d f_mantle = Eigen::Vector3d::Zero(), t_mantle = Eigen::Vector3d::Zero();
-  Eigen::Vector3d f_concave = Eigen::Vector3d::Zero(), t_concave = Eigen::Vector3d::Zero();
-  double normal_force = 0;  // N, sum of p A
-};
+using FinesLoads = core::LinerLoads;  // on each liner, about the given centres of mass (world frame)
 
 class FinesBed {
  public:

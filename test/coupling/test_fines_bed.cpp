@@ -6,25 +6,18 @@
 #include <cmath>
 
 #include "coupling/fines_bed.hpp"
+#include "../common/coaxial_liners.hpp"
 #include "small_chamber.hpp"
 
 namespace {
 
 constexpr double kRho = 2600, kClasses = 3;
 
+using test_liners::cylinder;
+using test_liners::shifted;
+
 // Coaxial cylinders: the mantle r = 0.30 m, the concave r = 0.35 m (gap 50 mm), z from -0.8 to -0.2 m.
-core::Profile cylinder(double r) {
-  core::Profile p;
-  p.z = {-0.9, -0.1};
-  p.r = {r, r};
-  return p;
-}
-core::Profile concave_cylinder() {
-  core::Profile p;
-  p.z = {-0.8, -0.2};
-  p.r = {0.35, 0.35};
-  return p;
-}
+core::Profile concave_cylinder() { return cylinder(0.35, -0.8, -0.2); }
 
 coupling::FinesBedParams params(int bands, int sectors) {
   coupling::FinesBedParams p;
@@ -32,12 +25,6 @@ coupling::FinesBedParams params(int bands, int sectors) {
   p.bands = bands;
   p.sectors = sectors;
   return p;
-}
-
-Eigen::Isometry3d shifted(const Eigen::Vector3d& d) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = d;
-  return T;
 }
 
 std::vector<double> in_first_class(double kg) { return {kg, 0.0, 0.0}; }
