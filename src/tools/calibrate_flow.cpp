@@ -20,6 +20,7 @@
 #include "analysis/flow_run.hpp"
 #include "analysis/optimise.hpp"
 #include "chamber/flow_config.hpp"
+#include "core/cli_args.hpp"
 #include "core/run_config.hpp"
 
 namespace {
@@ -36,19 +37,24 @@ int main(int argc, char** argv) {
   std::string config, out;
   int evals = 60;
   double seconds = 4, settle = 4;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") return usage(), 0;
-    if (i + 1 >= argc) return usage(), 2;
-    const std::string v = argv[++i];
-    if (a == "--config") config = v;
-    else if (a == "--out") out = v;
-    else if (a == "--evaluations") evals = std::stoi(v);
-    else if (a == "--seconds") seconds = std::stod(v);
-    else if (a == "--settle") settle = std::stod(v);
-    else return usage(), 2;
+  try {
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      if (a == "-h" || a == "--help") return usage(), 0;
+      else if (a == "--config") config = args.value();
+      else if (a == "--out") out = args.value();
+      else if (a == "--evaluations") evals = static_cast<int>(args.number(4, 10000));
+      else if (a == "--seconds") seconds = args.number(0.5, 1000);
+      else if (a == "--settle") settle = args.number(0, 1000);
+      else throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+    if (config.empty() || out.empty()) throw std::invalid_argument("--config and --out are required");
+  } catch (const std::exception& e) {
+    std::cerr << "calibrate_flow: " << e.what() << "\n";
+    usage();
+    return 2;
   }
-  if (config.empty() || out.empty()) return usage(), 2;
   try {
     auto root = core::ConfigNode::load_file(config);
     const auto mech0 = mbd::load_mechanism_params(root.child("mbd"));

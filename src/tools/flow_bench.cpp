@@ -9,6 +9,7 @@
 
 #include "analysis/flow_run.hpp"
 #include "chamber/flow_config.hpp"
+#include "core/cli_args.hpp"
 #include "core/run_config.hpp"
 
 namespace {
@@ -25,42 +26,29 @@ int main(int argc, char** argv) {
   double seconds = 6, settle = 4, rpm = -1, sm = -1, E = -1, n = -1, r = -1, loose = -1;
   int bands = -1, sectors = -1;
   bool profile = false, trace = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      usage();
-      return 0;
+  try {
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      if (a == "-h" || a == "--help") return usage(), 0;
+      else if (a == "--profile") profile = true;
+      else if (a == "--trace") trace = true;
+      else if (a == "--config") config = args.value();
+      else if (a == "--seconds") seconds = args.number(0.1, 1e4);
+      else if (a == "--settle") settle = args.number(0, 1e4);
+      else if (a == "--speed-rpm") rpm = args.number(1, 2000);
+      else if (a == "--static-moment") sm = args.number(0, 1e4);
+      else if (a == "--modulus-MPa") E = args.number(1e-3, 1e6);
+      else if (a == "--exponent") n = args.number(1, 6);
+      else if (a == "--rebound") r = args.number(0.01, 1);
+      else if (a == "--loose") loose = args.number(0.2, 0.8);
+      else if (a == "--bands") bands = static_cast<int>(args.number(2, 400));
+      else if (a == "--sectors") sectors = static_cast<int>(args.number(1, 360));
+      else throw std::invalid_argument("unknown argument '" + a + "'");
     }
-    if (a == "--profile") {
-      profile = true;
-      continue;
-    }
-    if (a == "--trace") {
-      trace = true;
-      continue;
-    }
-    if (i + 1 >= argc) {
-      usage();
-      return 2;
-    }
-    const std::string v = argv[++i];
-    if (a == "--config") config = v;
-    else if (a == "--seconds") seconds = std::stod(v);
-    else if (a == "--settle") settle = std::stod(v);
-    else if (a == "--speed-rpm") rpm = std::stod(v);
-    else if (a == "--static-moment") sm = std::stod(v);
-    else if (a == "--modulus-MPa") E = std::stod(v);
-    else if (a == "--exponent") n = std::stod(v);
-    else if (a == "--rebound") r = std::stod(v);
-    else if (a == "--loose") loose = std::stod(v);
-    else if (a == "--bands") bands = std::stoi(v);
-    else if (a == "--sectors") sectors = std::stoi(v);
-    else {
-      usage();
-      return 2;
-    }
-  }
-  if (config.empty()) {
+    if (config.empty()) throw std::invalid_argument("--config FILE is required");
+  } catch (const std::exception& e) {
+    std::cerr << "flow_bench: " << e.what() << "\n";
     usage();
     return 2;
   }

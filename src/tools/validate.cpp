@@ -20,6 +20,7 @@
 
 #include "analysis/flow_run.hpp"
 #include "chamber/flow_config.hpp"
+#include "core/cli_args.hpp"
 #include "core/run_config.hpp"
 #include "mbd/simulate.hpp"
 
@@ -122,20 +123,26 @@ void usage() {
 int main(int argc, char** argv) {
   std::string c400, c600, out, load = "flow";
   double seconds = 0, settle = -1;  // the configs' run.duration_s and run.settle_s unless given
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") return usage(), 0;
-    if (i + 1 >= argc) return usage(), 2;
-    const std::string v = argv[++i];
-    if (a == "--config400") c400 = v;
-    else if (a == "--config600") c600 = v;
-    else if (a == "--out") out = v;
-    else if (a == "--load") load = v;
-    else if (a == "--seconds") seconds = std::stod(v);
-    else if (a == "--settle") settle = std::stod(v);
-    else return usage(), 2;
+  try {
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      if (a == "-h" || a == "--help") return usage(), 0;
+      else if (a == "--config400") c400 = args.value();
+      else if (a == "--config600") c600 = args.value();
+      else if (a == "--out") out = args.value();
+      else if (a == "--load") load = args.value();
+      else if (a == "--seconds") seconds = args.number(0.1, 1e4);
+      else if (a == "--settle") settle = args.number(0, 1e4);
+      else throw std::invalid_argument("unknown argument '" + a + "'");
+    }
+    if (c400.empty() || c600.empty() || out.empty())
+      throw std::invalid_argument("--config400, --config600 and --out are required");
+  } catch (const std::exception& e) {
+    std::cerr << "validate: " << e.what() << "\n";
+    usage();
+    return 2;
   }
-  if (c400.empty() || c600.empty() || out.empty()) return usage(), 2;
   if (load != "flow" && load != "bed") {
     std::cerr << "validate: --load '" << load << "' is not accepted; accepted: flow, bed\n";
     return 2;

@@ -212,13 +212,18 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
   for (std::size_t c = 0; c < f.size(); ++c)
     f[c] = V0 * rho0 * ((c < r.feed_passing.size() ? r.feed_passing[c] : 1.0) - (c ? r.feed_passing[c - 1] : 0.0));
   cell.deposit(0, f);
-  Eigen::Isometry3d pressed = Eigen::Isometry3d::Identity(), rest = pressed;
-  pressed.translation() = Eigen::Vector3d(-0.05 * deep.s_reached, 0, 0);  // gap 50 mm (1 - s)
+  const Eigen::Isometry3d rest = Eigen::Isometry3d::Identity();
+  auto pressed = [&](double s) {  // gap 50 mm (1 - s)
+    Eigen::Isometry3d T = rest;
+    T.translation() = Eigen::Vector3d(-0.05 * s, 0, 0);
+    return T;
+  };
   const Eigen::Vector3d com(0, 0, -0.5);
   cell.step(rest, rest, com, com, 1e-3, 0.0);
-  cell.step(pressed, rest, com, com, 1e-3, 0.0);
+  const int n = 1000;  // pressed and released in small steps, as the piston does
+  for (int i = 1; i <= n; ++i) cell.step(pressed(deep.s_reached * i / n), rest, com, com, 1e-3, 0.0);
   const double p_cont = cell.cell_pressure(0), p_dem = deep.p[std::max_element(deep.s.begin(), deep.s.end()) - deep.s.begin()];
-  cell.step(rest, rest, com, com, 1e-3, 0.0);
+  for (int i = n - 1; i >= 0; --i) cell.step(pressed(deep.s_reached * i / n), rest, com, com, 1e-3, 0.0);
   ASSERT_EQ(cell.events(), 1);
   const double scatter = std::exp(2 * m.pressure_fit.rms_log);
   EXPECT_GT(p_cont, p_dem / scatter) << p_cont << " Pa against the DEM's " << p_dem;
