@@ -99,6 +99,8 @@ std::vector<double> FlowModel::passing(const std::vector<double>& by_class) cons
 void FlowModel::deposit(std::size_t k, const std::vector<double>& class_kg) {
   if (k >= cells() || class_kg.size() != classes())
     throw std::invalid_argument("FlowModel::deposit: cell or number of size classes out of range");
+  for (double kg : class_kg)
+    if (!(kg >= 0) || !std::isfinite(kg)) throw std::invalid_argument("FlowModel::deposit: masses must be finite and >= 0");
   add(k, class_kg.data(), 1.0, false);
 }
 
@@ -176,7 +178,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       send_down(k, m - m_max, nullptr);
       m = m_max;
     }
-    if (m <= 0) {
+    if (m <= 0) {  // emptied (the gap closed to nothing): the last of the liners' work on it is booked
+      if (prefilled_) energy_ += 0.5 * p_before * area_[b] * (g_before - g);
       memory_[k] = mbd::BedCell{};
       continue;
     }

@@ -11,7 +11,7 @@
 //    the rock along the hysteretic law: virgin loading p = E (s - s0)^n, unloading recovers `rebound` of the
 //    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
 //    extruded into the cell below (out from the bottom band).
-//  - Breakage: each completed compression event (one loading-unloading loop of ratio s = smax - s0) breaks every
+//  - Breakage: each completed compression event (one loading-unloading loop, ratio s = (smax - s0) / (1 - s0)) breaks every
 //    class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing energy
 //    is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
 //    (1 - rebound) E s^(n+1) / (n + 1) per loose volume, plus the work of extrusion at the compaction limit.

@@ -169,10 +169,10 @@ class MbdNode {
         checkpoint_and_rotate();
       if (coupled) exchange(steps_per_coupling * dt);
       for (long i = 0; i < steps_per_coupling; ++i) {
-        if (flow_) {
-          flow_->step(*mech_);
+        if (flow_) {  // the summary's product window opens at the settle time (t = 0 when settle_s is 0)
           if (!flow_window_ && mech_->time() >= cfg_.run.settle_s - 0.5 * dt)
             flow_window_ = chamber::snapshot(flow_->model(), mech_->time());
+          flow_->step(*mech_);
         } else {
           mech_->step();
         }

@@ -92,7 +92,7 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   pub_liners_.publish(liners);
   bag.write("/crusher/liners", stamp, liners);
 
-  // Cells at their concave point, sized by fill and coloured by pressure on a fixed 0-10 MPa scale (blue to red).
+  // Cells holding rock at their concave point, coloured by pressure on a fixed 0-10 MPa scale (blue to red).
   visualization_msgs::Marker c;
   c.header = p.header;
   c.ns = "chamber_cells";

@@ -122,7 +122,8 @@ int main(int argc, char** argv) {
       << mech.chamber.concave.r.back() * 1e3 << "]\n  },\n"
       << "  \"reached\": {\"amplitude_x_mm\": " << s.amplitude_x_mm.mean << ", \"power_kW\": " << s.power_kW.mean
       << ", \"throughput_tph\": " << s.product->throughput_tph << ", \"specific_energy_kWh_per_t\": "
-      << s.power_kW.mean / s.product->throughput_tph << ", \"p80_mm\": " << r.p80_mm << "},\n"
+      << (s.product->throughput_tph > 0 ? std::to_string(s.power_kW.mean / s.product->throughput_tph) : "null")
+      << ", \"p80_mm\": " << (r.p80_mm > 0 ? std::to_string(r.p80_mm) : "null") << "},\n"
       << "  \"cost\": " << best.f << ",\n  \"evaluations\": " << best.evaluations << ",\n  \"wall_s\": " << wall << "\n}\n";
     std::ofstream(out + "/calibrated_mbd.yaml") << mbd::to_yaml(mech);
     std::printf("calibrated at 400 rpm in %d runs (%.0f s): static moment %.2f kg m, concave_r_mm [%.1f, %.1f]\n",
