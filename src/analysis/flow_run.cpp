@@ -27,19 +27,20 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   const long trace = o.trace_every_s > 0 ? std::max(1L, std::lround(o.trace_every_s / dt)) : 0;
   double fed0 = 0, out0 = 0, work0 = 0, tr_nut = 0;
   for (long i = 1; i <= total; ++i) {
+    if (i == settle + 1) win = chamber::snapshot(load.model(), m.time());  // the window opens at the settle time
     load.step(m);
     if (trace) {
       tr_nut += m.nutation_angle();
       if (i % trace == 0) {
         const auto& f = load.model();
         const double span = trace * dt, work = m.flows().drive_work;
-        std::fprintf(stderr, "t %.2f s: charge %.1f kg, feed %.0f t/h, product %.0f t/h, nutation %.3f deg, power %.1f kW\n",
+        std::fprintf(stderr,
+                     "t %.2f s: charge %.1f kg, feed %.0f t/h, product %.0f t/h, nutation %.3f deg, power %.1f kW\n",
                      m.time(), f.mass_kg(), (f.fed_kg() - fed0) / span * 3.6, (f.discharged_kg() - out0) / span * 3.6,
                      tr_nut / trace * 180 / M_PI, (work - work0) / span * 1e-3);
         fed0 = f.fed_kg(), out0 = f.discharged_kg(), work0 = work, tr_nut = 0;
       }
     }
-    if (i == settle) win = chamber::snapshot(load.model(), m.time());
     if (i > settle) nut += m.nutation_angle(), ++nut_n;
     if (i % every == 0) {
       const auto tp = m.test_point();
@@ -52,7 +53,6 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
       s.speed_rad_s.push_back(d.speed);
     }
   }
-  if (settle == 0) win = chamber::snapshot(chamber::FlowModel(flow, mech.chamber.mantle, mech.chamber.concave), 0.0);
   chamber::close_window(win, load.model(), m.time());
   r.summary = summarize(s, mech.drive_speed_rad_s, o.settle_s);
   ProductSummary p;

@@ -46,12 +46,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   rho0_ = m.loose_fraction * m.solid_density;
   auto lo = [](const core::Profile& q) { return std::min(q.z.front(), q.z.back()); };
   auto hi = [](const core::Profile& q) { return std::max(q.z.front(), q.z.back()); };
-  z_lo_ = std::max(lo(mantle), lo(concave));
-  const double z_hi = std::min(hi(mantle), hi(concave));
-  require(z_hi > z_lo_, "the mantle and the concave share no height");
-  const auto cells = core::concave_cells(concave, z_lo_, z_hi, p.bands, p.sectors);
-  dz_ = cells.dz;
-  z_mid_ = cells.z_mid, r_mid_ = cells.r_mid, area_ = cells.area, cos_ = cells.cos, sin_ = cells.sin;
+  const double z_lo = std::max(lo(mantle), lo(concave)), z_hi = std::min(hi(mantle), hi(concave));
+  require(z_hi > z_lo, "the mantle and the concave share no height");
+  cells_ = core::concave_cells(concave, z_lo, z_hi, p.bands, p.sectors);
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
@@ -69,8 +66,7 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
 }
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
-  const std::size_t b = k / p_.sectors, s = k % p_.sectors;
-  return {r_mid_[b] * cos_[s], r_mid_[b] * sin_[s], z_mid_[b]};
+  return cells_.point(k / p_.sectors, k % p_.sectors);
 }
 
 double FlowModel::sum_classes(std::size_t k) const {
@@ -100,7 +96,8 @@ void FlowModel::deposit(std::size_t k, const std::vector<double>& class_kg) {
   if (k >= cells() || class_kg.size() != classes())
     throw std::invalid_argument("FlowModel::deposit: cell or number of size classes out of range");
   for (double kg : class_kg)
-    if (!(kg >= 0) || !std::isfinite(kg)) throw std::invalid_argument("FlowModel::deposit: masses must be finite and >= 0");
+    if (!(kg >= 0) || !std::isfinite(kg))
+      throw std::invalid_argument("FlowModel::deposit: masses must be finite and >= 0");
   add(k, class_kg.data(), 1.0, false);
 }
 
@@ -159,7 +156,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   for (std::size_t k = 0; k < cells(); ++k) {
     const std::size_t b = k / S, s = k % S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
-    const Eigen::Vector3d xc(r_mid_[b] * cos_[s], r_mid_[b] * sin_[s], z_mid_[b]);
+    const Eigen::Vector3d xc = cells_.point(b, s);
     const Eigen::Vector3d xm = concave_to_mantle * xc;
     const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
     Eigen::Vector2d nzr;
@@ -168,7 +165,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     closing_[k] = prefilled_ && g < g_before;  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
     pressure_[k] = 0;
-    const double cap = area_[b] * g * rho0_;  // loose mass the cell's space holds
+    const double cap = cells_.area[b] * g * rho0_;  // loose mass the cell's space holds
     if (!prefilled_ && p_.prefill) fill(k, cap);
     double m = total_[k];
     // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below.
@@ -178,8 +175,17 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       send_down(k, m - m_max, nullptr);
       m = m_max;
     }
+    // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic
+    // law's loss (1 - rebound) E D^(n+1) / (n + 1) per loose volume, plus, at the compaction limit, the work of
+    // pressing rock out of the nip.
+    auto book_work = [&](double p) {
+      if (!prefilled_) return;
+      const double dW = 0.5 * (p_before + p) * cells_.area[b] * (g_before - g);
+      energy_ += dW;
+      if (extruded) extrusion_ += dW;
+    };
     if (m <= 0) {  // emptied (the gap closed to nothing): the last of the liners' work on it is booked
-      if (prefilled_) energy_ += 0.5 * p_before * area_[b] * (g_before - g);
+      book_work(0.0);
       memory_[k] = mbd::BedCell{};
       continue;
     }
@@ -194,24 +200,18 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       if (D >= kCountedCompression) count_[k] += 1, ++events_;
     }
     pressure_[k] = p;
-    // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic
-    // law's loss (1 - rebound) E D^(n+1) / (n + 1) per loose volume, plus, at the compaction limit, the work of
-    // pressing rock out of the nip.
-    if (prefilled_) {
-      const double dW = 0.5 * (p_before + p) * area_[b] * (g_before - g);
-      energy_ += dW;
-      if (extruded) extrusion_ += dW;
-    }
+    book_work(p);
     if (p <= 0) continue;
     const double inv = 1.0 / std::max(rho, 1e-12);
-    const Eigen::Vector3d n = mantle.linear() * Eigen::Vector3d(nzr.y() * xm.x() * inv, nzr.y() * xm.y() * inv, nzr.x());
+    const Eigen::Vector3d n =
+        mantle.linear() * Eigen::Vector3d(nzr.y() * xm.x() * inv, nzr.y() * xm.y() * inv, nzr.x());
     const Eigen::Vector3d X = concave * xc;
-    const Eigen::Vector3d F = p * area_[b] * n;  // on the concave (n: out of the mantle); -F on the mantle
+    const Eigen::Vector3d F = p * cells_.area[b] * n;  // on the concave (n: out of the mantle); -F on the mantle
     out.f_concave += F;
     out.t_concave += (X - com_c).cross(F);
     out.f_mantle -= F;
     out.t_mantle += (X - g * n - com_m).cross(-F);
-    out.normal_force += p * area_[b];
+    out.normal_force += p * cells_.area[b];
   }
   prefilled_ = true;
   // Free rock falls, bottom band first (what leaves a cell makes room above it in the same step).
@@ -228,9 +228,9 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     double movable = 0;
     for (std::size_t j = 0; j < C; ++j)
       movable += (pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j]);
-    double kg = movable * std::min(1.0, speed_[k] * h / dz_);
+    double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
-      const double room = std::max(0.0, rho0_ * area_[b - 1] * gap_[k - S] - total_[k - S]);
+      const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - total_[k - S]);
       if (kg > room) kg = room, speed_[k] = std::min(speed_[k], speed_[k - S]);  // resting on the rock below
     }
     if (kg <= 0) {
@@ -243,7 +243,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   // Choke feed into the free cells of the top band.
   for (std::size_t k = cells() - S; p_.choke_feed && k < cells(); ++k) {
     if (pressure_[k] > 0) continue;
-    const double room = rho0_ * area_[k / S] * gap_[k] - total_[k];
+    const double room = rho0_ * cells_.area[k / S] * gap_[k] - total_[k];
     if (room > 0) fill(k, room);
   }
   return out;

@@ -11,9 +11,9 @@
 //    the rock along the hysteretic law: virgin loading p = E (s - s0)^n, unloading recovers `rebound` of the
 //    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
 //    extruded into the cell below (out from the bottom band).
-//  - Breakage: each completed compression event (one loading-unloading loop, ratio s = (smax - s0) / (1 - s0)) breaks every
-//    class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing energy
-//    is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
+//  - Breakage: each completed compression event (one loading-unloading loop, ratio s = (smax - s0) / (1 - s0)) breaks
+//    every class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing
+//    energy is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
 //    (1 - rebound) E s^(n+1) / (n + 1) per loose volume, plus the work of extrusion at the compaction limit.
 //  - Flow (Evertsson 1999): rock is held while the gap closes on it and while it is pressed; while the gap opens it
 //    falls under gravity into the cell below as far as that cell has room (its rock would still be loose) and a lump
@@ -74,7 +74,7 @@ class FlowModel {
   std::size_t cells() const { return speed_.size(); }
   std::size_t classes() const { return breakage_.classes(); }
   double loose_density() const { return rho0_; }
-  double cell_area(std::size_t k) const { return area_[k / p_.sectors]; }  // m^2 of concave
+  double cell_area(std::size_t k) const { return cells_.area[k / p_.sectors]; }  // m^2 of concave
   Eigen::Vector3d cell_point(std::size_t k) const;  // on the concave, concave liner frame (band 0 = bottom)
 
   // Presses, breaks, moves and feeds the rock at the liners' pose (liner frame -> world) over h seconds.
@@ -108,8 +108,9 @@ class FlowModel {
   FlowParams p_;
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;
-  double rho0_ = 0, z_lo_ = 0, dz_ = 0;
-  std::vector<double> area_, z_mid_, r_mid_, cos_, sin_, feed_share_;
+  double rho0_ = 0;
+  core::ConcaveCells cells_;  // the cells' concave points and areas
+  std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
   std::vector<mbd::BedCell> memory_;

@@ -62,6 +62,9 @@ class ProfileDistance {
 struct ConcaveCells {
   double z_lo = 0, dz = 0;
   std::vector<double> z_mid, r_mid, area, cos, sin;
+  Eigen::Vector3d point(std::size_t band, std::size_t sector) const {  // the cell's concave point, liner frame
+    return {r_mid[band] * cos[sector], r_mid[band] * sin[sector], z_mid[band]};
+  }
 };
 ConcaveCells concave_cells(const Profile& concave, double z_lo, double z_hi, int bands, int sectors);
 

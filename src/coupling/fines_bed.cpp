@@ -25,10 +25,8 @@ FinesBed::FinesBed(const FinesBedParams& p, const core::Profile& mantle, const c
   require(p.max_strain > 0 && p.max_strain < 1, "max_strain must be in (0, 1)");
   require(classes >= 1 && solid_density > 0, "needs sieve classes and a rock density");
   rho_bulk_ = p.bulk_fraction * solid_density;
-  const auto cells = core::concave_cells(concave, std::min(concave.z.front(), concave.z.back()),
-                                         std::max(concave.z.front(), concave.z.back()), p.bands, p.sectors);
-  z_lo_ = cells.z_lo, dz_ = cells.dz;
-  z_mid_ = cells.z_mid, r_mid_ = cells.r_mid, area_ = cells.area, cos_ = cells.cos, sin_ = cells.sin;
+  cells_ = core::concave_cells(concave, std::min(concave.z.front(), concave.z.back()),
+                               std::max(concave.z.front(), concave.z.back()), p.bands, p.sectors);
   const std::size_t n = static_cast<std::size_t>(p.bands) * p.sectors;
   mass_.assign(n * classes_, 0.0);
   speed_.assign(n, 0.0);
@@ -39,7 +37,7 @@ FinesBed::FinesBed(const FinesBedParams& p, const core::Profile& mantle, const c
 }
 
 long FinesBed::cell_of(const Eigen::Vector3d& xc) const {
-  const double u = (xc.z() - z_lo_) / dz_;
+  const double u = (xc.z() - cells_.z_lo) / cells_.dz;
   if (u < 0) return -1;
   const int b = std::min(p_.bands - 1, static_cast<int>(u));
   double a = std::atan2(xc.y(), xc.x());
@@ -78,7 +76,7 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   for (std::size_t k = 0; k < cells(); ++k) {
     const std::size_t b = k / S, s = k % S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
-    const Eigen::Vector3d X = concave * Eigen::Vector3d(r_mid_[b] * cos_[s], r_mid_[b] * sin_[s], z_mid_[b]);
+    const Eigen::Vector3d X = concave * cells_.point(b, s);
     const Eigen::Vector3d xm = to_mantle * X;
     const double rho = std::hypot(xm.x(), xm.y());
     Eigen::Vector2d nzr;
@@ -88,7 +86,7 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     pressure_[k] = 0;
     // Compaction limit: fines pressed past max_strain flow out of the nip, down into the cell below (or out of the
     // chamber from the bottom band), instead of carrying an ever higher pressure.
-    const double m_max = area_[b] * g * rho_bulk_ / (1.0 - p_.max_strain);
+    const double m_max = cells_.area[b] * g * rho_bulk_ / (1.0 - p_.max_strain);
     if (m > m_max) {
       extrude(k, m_max > 0 ? 1.0 - m_max / m : 1.0);
       m = m_max;
@@ -97,19 +95,19 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       memory_[k] = mbd::BedCell{};
       continue;
     }
-    const double e = std::min(p_.max_strain, std::max(0.0, 1.0 - area_[b] * g * rho_bulk_ / m));
+    const double e = std::min(p_.max_strain, std::max(0.0, 1.0 - cells_.area[b] * g * rho_bulk_ / m));
     const double p = mbd::bed_hysteretic(memory_[k], e, p_.modulus_Pa, p_.exponent, p_.rebound).p;
     pressure_[k] = p;
     if (p <= 0) continue;
     const Eigen::Vector3d n_local(nzr.y() * xm.x() / std::max(rho, 1e-12), nzr.y() * xm.y() / std::max(rho, 1e-12),
                                   nzr.x());
     const Eigen::Vector3d n = mantle.linear() * n_local;  // out of the mantle, towards the concave
-    const Eigen::Vector3d F = p * area_[b] * n;        // on the concave; -F on the mantle
+    const Eigen::Vector3d F = p * cells_.area[b] * n;        // on the concave; -F on the mantle
     out.f_concave += F;
     out.t_concave += (X - com_c).cross(F);
     out.f_mantle -= F;
     out.t_mantle += (X - g * n - com_m).cross(-F);
-    out.normal_force += p * area_[b];
+    out.normal_force += p * cells_.area[b];
   }
   // Free fines fall, bottom band first (so that what leaves a cell makes room above it in the same step).
   for (std::size_t k = 0; k < cells(); ++k) {
@@ -120,13 +118,13 @@ FinesLoads FinesBed::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       continue;
     }
     speed_[k] += gravity * h;
-    double move = m * std::min(1.0, speed_[k] * h / dz_);
+    double move = m * std::min(1.0, speed_[k] * h / cells_.dz);
     double* from = &mass_[k * classes_];
     double* to = out_.data();
     if (b > 0) {
       const std::size_t below = k - S;
       const double mb = cell_mass(below);
-      move = std::min(move, std::max(0.0, rho_bulk_ * (area_[b - 1] * gap_[below]) - mb));
+      move = std::min(move, std::max(0.0, rho_bulk_ * (cells_.area[b - 1] * gap_[below]) - mb));
       if (move <= 0) {
         speed_[k] = 0;  // the cell below is full: the fines pile up
         continue;

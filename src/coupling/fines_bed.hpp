@@ -49,7 +49,7 @@ class FinesBed {
   // Cell of a point given in the concave's liner frame (band-major); -1 below the bottom band (it leaves at once);
   // points above the top band belong to it.
   long cell_of(const Eigen::Vector3d& xc) const;
-  double cell_area(std::size_t k) const { return area_[k / p_.sectors]; }  // m^2 of concave
+  double cell_area(std::size_t k) const { return cells_.area[k / p_.sectors]; }  // m^2 of concave
   // Fines of one crushed lump at xc (concave liner frame), kg per class; below the bottom they are discharged.
   void deposit(const Eigen::Vector3d& xc, const std::vector<double>& class_kg);
 
@@ -70,8 +70,8 @@ class FinesBed {
   FinesBedParams p_;
   core::Profile mantle_;
   std::size_t classes_;
-  double rho_bulk_ = 0, z_lo_ = 0, dz_ = 0;
-  std::vector<double> area_, z_mid_, r_mid_, cos_, sin_;  // per band / per sector
+  double rho_bulk_ = 0;
+  core::ConcaveCells cells_;  // the cells' concave points and areas
   std::vector<double> mass_;                       // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_;  // per cell: m/s down, Pa, m
   std::vector<mbd::BedCell> memory_;
