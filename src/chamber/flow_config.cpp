@@ -72,6 +72,18 @@ FlowParams load_flow_params(const core::ConfigNode& f) {
   return p;
 }
 
+FlowRunConfig load_flow_run_config(const std::string& file) {
+  auto root = core::ConfigNode::load_file(file);
+  FlowRunConfig c;
+  c.mech = mbd::load_mechanism_params(root.child("mbd"));
+  c.flow = load_flow_params(root.child_or_empty("flow"));
+  c.run = core::load_run_options(root.child("run"));
+  core::load_coupling_options(root.child_or_empty("coupling"));
+  root.ignore("dem");
+  root.finish();
+  return c;
+}
+
 std::string flow_material_yaml(const FlowMaterial& m) {
   std::ostringstream y;
   y.precision(10);

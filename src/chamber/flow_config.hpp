@@ -21,6 +21,8 @@
 
 #include "chamber/flow_model.hpp"
 #include "core/config.hpp"
+#include "core/run_config.hpp"
+#include "mbd/mechanism_params.hpp"
 
 namespace chamber {
 
@@ -29,6 +31,15 @@ FlowMaterial flow_material_from_config(const core::ConfigNode& node, const FlowM
 FlowMaterial load_flow_material(const std::string& file);  // the file's `flow_material:` mapping, finish() checked
 // Reads the `flow:` mapping (material file resolved against node.file()'s folder); the caller runs finish().
 FlowParams load_flow_params(const core::ConfigNode& flow);
+// A run config as a flow run reads it: the mechanism, the flow model and the run; coupling: checked too, dem: left
+// to dem_node; finish() checked (an unknown key is refused by name). For the tools and tests that run flow mode
+// without mbd_node.
+struct FlowRunConfig {
+  mbd::MechanismParams mech;
+  FlowParams flow;
+  core::RunOptions run;
+};
+FlowRunConfig load_flow_run_config(const std::string& file);
 // `flow_material:` YAML text of m (with the top-level key), which load_flow_material reads back.
 std::string flow_material_yaml(const FlowMaterial& m);
 

@@ -25,6 +25,15 @@ class CliArgs {
                                   std::to_string(hi) + "]");
     return x;
   }
+  long integer(long lo, long hi) {               // the flag's value as a whole number in [lo, hi]
+    const std::string f = flag(), v = value();
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || !end || *end || n < lo || n > hi)
+      throw std::invalid_argument(f + " " + v + ": accepted a whole number in [" + std::to_string(lo) + ", " +
+                                  std::to_string(hi) + "]");
+    return n;
+  }
 
  private:
   int argc_;

@@ -56,13 +56,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    auto root = core::ConfigNode::load_file(config);
-    const auto mech0 = mbd::load_mechanism_params(root.child("mbd"));
-    const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
-    if (root.has("run")) core::load_run_options(root.child("run"));
-    core::load_coupling_options(root.child_or_empty("coupling"));
-    root.ignore("dem");
-    root.finish();
+    const auto cfg = chamber::load_flow_run_config(config);
+    const auto& mech0 = cfg.mech;
+    const auto& flow = cfg.flow;
     const double rpm = mech0.drive_speed_rad_s * 60 / (2 * M_PI);
     if (std::fabs(rpm - 400) > 1e-6)
       throw std::invalid_argument("calibrate_flow calibrates at 400 rpm only (mbd.drive.speed_rpm is " +

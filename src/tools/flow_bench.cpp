@@ -53,13 +53,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    auto root = core::ConfigNode::load_file(config);
-    auto mech = mbd::load_mechanism_params(root.child("mbd"));
-    auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
-    if (root.has("run")) core::load_run_options(root.child("run"));
-    core::load_coupling_options(root.child_or_empty("coupling"));
-    root.ignore("dem");
-    root.finish();
+    auto [mech, flow, run] = chamber::load_flow_run_config(config);
     if (rpm > 0) mech.drive_speed_rad_s = rpm * 2 * M_PI / 60;
     if (sm >= 0) mech.vibrator_static_moment_kg_m = sm;
     if (E > 0) flow.material.modulus_Pa = E * 1e6;

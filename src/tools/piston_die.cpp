@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "chamber/piston_die.hpp"
+#include "core/cli_args.hpp"
 
 namespace fs = std::filesystem;
 
@@ -31,57 +32,56 @@ struct Args {
   double die_mm = 0;       // 0: the library's default
 };
 
-[[noreturn]] void usage(const std::string& why) {
-  std::fprintf(stderr,
-               "piston_die: %s\nusage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] "
-               "[--dt-safety X] [--rocks N] [--die-mm D] [--ratios S1,S2,...] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns s,p_MPa[,phase]; phase load/unload "
-               "or 0/1) fitted instead of the DEM test\n",
-               why.c_str());
-  std::exit(2);
-}
+constexpr const char* kUsage =
+    "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
+    "[--die-mm D] [--ratios S1,S2,...] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns "
+    "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
-long integer(const std::string& flag, const std::string& v, long lo, long hi) {
-  char* end = nullptr;
-  const long n = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end || n < lo || n > hi)
-    usage(flag + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" + v + "'");
-  return n;
+[[noreturn]] void usage(const std::string& why) {
+  std::fprintf(stderr, "piston_die: %s\n%s", why.c_str(), kUsage);
+  std::exit(2);
 }
 
 Args parse(int argc, char** argv) {
   Args a;
   for (int i = 0; i < argc; ++i) a.command += (i ? " " : "") + std::string(argv[i]);
-  for (int i = 1; i < argc; ++i) {
-    const std::string s = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) usage("option " + s + " needs a value");
-      return argv[++i];
-    };
-    if (s == "--out") a.out = value();
-    else if (s == "--bpm") a.bpm = value();
-    else if (s == "--lab") a.lab = value();
-    else if (s == "--quick") a.quick = true;
-    else if (s == "--ratios") {
-      std::stringstream list(value());
-      for (std::string item; std::getline(list, item, ',');) {
+  try {
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string s = args.flag();
+      if (s == "--out") a.out = args.value();
+      else if (s == "--bpm") a.bpm = args.value();
+      else if (s == "--lab") a.lab = args.value();
+      else if (s == "--quick") a.quick = true;
+      else if (s == "--ratios") {
+        std::stringstream list(args.value());
+        for (std::string item; std::getline(list, item, ',');) {
+          char* end = nullptr;
+          const double x = std::strtod(item.c_str(), &end);
+          if (item.empty() || *end || !(x > 0 && x <= 0.6))
+            usage("--ratios takes ascending compression ratios in (0, 0.6] separated by commas, got '" + item + "'");
+          a.ratios.push_back(x);
+        }
+      } else if (s == "--rocks") a.rocks = static_cast<int>(args.integer(1, 100000));
+      else if (s == "--die-mm") a.die_mm = static_cast<double>(args.integer(50, 2000));
+      else if (s == "--threads") a.threads = static_cast<int>(args.integer(1, 256));
+      else if (s == "--seed") a.seed = static_cast<unsigned long long>(args.integer(1, 1000000000));
+      else if (s == "--dt-safety") {
+        const std::string v = args.value();
         char* end = nullptr;
-        const double x = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end || !(x > 0 && x <= 0.6))
-          usage("--ratios takes ascending compression ratios in (0, 0.6] separated by commas, got '" + item + "'");
-        a.ratios.push_back(x);
+        a.dt_safety = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
+          usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
+      } else if (s == "-h" || s == "--help") {
+        std::printf("%s", kUsage);
+        std::exit(0);
+      } else {
+        usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
+              "--die-mm, --ratios, --lab)");
       }
-    } else if (s == "--rocks") a.rocks = static_cast<int>(integer(s, value(), 1, 100000));
-    else if (s == "--die-mm") a.die_mm = static_cast<double>(integer(s, value(), 50, 2000));
-    else if (s == "--threads") a.threads = static_cast<int>(integer(s, value(), 1, 256));
-    else if (s == "--seed") a.seed = static_cast<unsigned long long>(integer(s, value(), 1, 1000000000));
-    else if (s == "--dt-safety") {
-      const std::string v = value();
-      char* end = nullptr;
-      a.dt_safety = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end || !(a.dt_safety > 0.0 && a.dt_safety <= 1.0))
-        usage("--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got '" + v + "'");
-    } else if (s == "-h" || s == "--help") usage("help");
-    else usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, --die-mm, --ratios, --lab)");
+    }
+  } catch (const std::invalid_argument& e) {
+    usage(e.what());
   }
   if (a.out.empty()) usage("--out DIR is required");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");

@@ -49,13 +49,7 @@ struct Case {
 };
 
 Case run_case(const std::string& file, const std::string& load, double seconds, double& settle) {
-  auto root = core::ConfigNode::load_file(file);
-  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
-  const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
-  const auto run = core::load_run_options(root.child("run"));
-  core::load_coupling_options(root.child_or_empty("coupling"));
-  root.ignore("dem");
-  root.finish();
+  const auto [mech, flow, run] = chamber::load_flow_run_config(file);
   // The config's own run, as `crusher run CONFIG` does it: run.duration_s in all, the summary after run.settle_s.
   if (settle < 0) settle = run.settle_s;
   if (seconds <= 0) seconds = run.duration_s - settle;

@@ -42,10 +42,8 @@ TEST(GoldenValidation, ShippedFastModeStaysAtTheValidationTable) {
   text << readme.rdbuf();
   const std::string md = text.str();
   for (const auto& g : kGolden) {
-    auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + g.config);
-    const auto mech = mbd::load_mechanism_params(root.child("mbd"));
-    const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
-    const auto run = core::load_run_options(root.child("run"));
+    const auto [mech, flow, run] =
+        chamber::load_flow_run_config(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + g.config);
     analysis::FlowRunOptions o;
     o.duration_s = run.duration_s - run.settle_s;  // as `crusher run CONFIG`: the summary after the settle
     o.settle_s = run.settle_s;

@@ -15,14 +15,13 @@
 
 namespace {
 // The shipped run: the machine and the flow model's parameters of a config.
-std::pair<mbd::MechanismParams, chamber::FlowParams> gyp1200(const std::string& name) {
-  const auto root = core::ConfigNode::load_file(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + name);
-  return {mbd::load_mechanism_params(root.child("mbd")), chamber::load_flow_params(root.child("flow"))};
+chamber::FlowRunConfig gyp1200(const std::string& name) {
+  return chamber::load_flow_run_config(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/" + name);
 }
 }  // namespace
 
 TEST(FlowLoad, DrivePowerGoesIntoTheRockAndMatchesTheCrushingEnergyBooked) {
-  const auto [p, fp] = gyp1200("gyp1200_400rpm.yaml");
+  const auto [p, fp, run] = gyp1200("gyp1200_400rpm.yaml");
   mbd::Mechanism m(p, mbd::LoadModel::None);
   chamber::FlowLoad load(fp, p);
   while (m.time() < 4.0 - 1e-9) load.step(m);  // start-up: drive ramp, frame transient (the run's settle_s)
