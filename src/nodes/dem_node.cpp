@@ -353,11 +353,7 @@ class DemNode {
     }
     for (std::size_t i = 0; i < P.size(); ++i) {
       int b = rmax > rmin ? std::min(kBins - 1, static_cast<int>((P.r[i] - rmin) / (rmax - rmin) * kBins)) : 0;
-      geometry_msgs::Point q;
-      q.x = P.x[i];
-      q.y = P.y[i];
-      q.z = P.z[i];
-      arr.markers[b].points.push_back(q);
+      arr.markers[b].points.push_back(nodes::to_point({P.x[i], P.y[i], P.z[i]}));
       arr.markers[b].colors.push_back(colour_of(labels[i]));
     }
     for (auto& m : arr.markers)
@@ -388,17 +384,12 @@ class DemNode {
     m.scale.x = m.scale.y = m.scale.z = 0.04;
     for (std::size_t r = 0; r < force.size(); ++r) {
       if (!count[r]) continue;
-      geometry_msgs::Point q;
-      const Eigen::Vector3d c = centre[r] / count[r];
-      q.x = c.x();
-      q.y = c.y();
-      q.z = c.z();
       std_msgs::ColorRGBA col;
       col.r = force[r] / fmax;
       col.b = 1.0 - col.r;
       col.g = 0.2;
       col.a = 1.0;
-      m.points.push_back(q);
+      m.points.push_back(nodes::to_point(centre[r] / count[r]));
       m.colors.push_back(col);
     }
     visualization_msgs::MarkerArray arr;
@@ -426,11 +417,7 @@ class DemNode {
       const auto& wv = mc->mesh().world_vertices();
       for (const auto& tri : mc->mesh().triangles()) {
         for (int k : tri) {
-          geometry_msgs::Point q;
-          q.x = wv[k].x();
-          q.y = wv[k].y();
-          q.z = wv[k].z();
-          m.points.push_back(q);
+          m.points.push_back(nodes::to_point(wv[k]));
         }
       }
       arr.markers.push_back(m);
