@@ -69,6 +69,7 @@ FlowParams load_flow_params(const core::ConfigNode& f) {
       if (p.feed_passing[i] < p.feed_passing[i - 1]) f.fail("feed_passing_pct", "must not fall from sieve to sieve");
   }
   p.prefill = f.boolean_or("prefill", p.prefill);
+  p.compaction_memory = f.boolean_or("compaction_memory", p.compaction_memory);
   return p;
 }
 

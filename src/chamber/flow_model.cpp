@@ -61,6 +61,7 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   count_.assign(n, 0.0);
   total_.assign(n, 0.0);
   memory_.assign(n, mbd::BedCell{});
+  bed_.assign(n, mbd::CompactedBed{});
   out_.assign(classes(), 0.0);
   pass_.assign(classes(), 0.0);
 }
@@ -72,6 +73,11 @@ Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
 double FlowModel::sum_classes(std::size_t k) const {
   const auto* m = &mass_[k * classes()];
   return std::accumulate(m, m + classes(), 0.0);
+}
+
+// Loose mass that fills the space cell k's rock takes: compacted rock (c) takes m (1 - c) / rho0 of it.
+double FlowModel::loose_volume_mass(std::size_t k) const {
+  return p_.compaction_memory ? total_[k] * (1.0 - bed_[k].c) : total_[k];
 }
 
 double FlowModel::mass_kg() const { return std::accumulate(mass_.begin(), mass_.end(), 0.0); }
@@ -111,6 +117,7 @@ void FlowModel::add(std::size_t k, const double* share, double scale, bool keep_
   double kg = 0;
   for (std::size_t j = 0; j < classes(); ++j) c[j] += scale * share[j], kg += scale * share[j];
   total_[k] = sum_classes(k);
+  mbd::mix_compaction(bed_[k], m, kg, 0.0);  // fresh rock is loose
   if (m + kg > 0) {
     count_[k] *= m / (m + kg);
     if (!keep_speed) speed_[k] *= m / (m + kg);
@@ -139,7 +146,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   const std::size_t S = static_cast<std::size_t>(p_.sectors), C = classes();
   const auto& mat = p_.material;
   // Moves kg out of cell k into the cell below (or out of the chamber from the bottom band), mixing the counts.
-  auto send_down = [&](std::size_t k, double kg, const double* share) {
+  // c_moved: the compaction the moved rock keeps (0: it falls and is re-poured; extruded rock stays compacted).
+  auto send_down = [&](std::size_t k, double kg, const double* share, double c_moved) {
     if (kg <= 0) return;
     if (k < S) {
       move(k, out_.data(), kg, share, &out_count_);
@@ -147,6 +155,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     }
     const std::size_t below = k - S;
     const double mb = total_[below];
+    mbd::mix_compaction(bed_[below], mb, kg, c_moved);
     double moved_count = 0;
     move(k, &mass_[below * C], kg, share, &moved_count);
     total_[below] = sum_classes(below);
@@ -172,7 +181,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const double m_max = cap / (1.0 - mat.max_compression);
     const bool extruded = m > m_max;
     if (extruded) {
-      send_down(k, m - m_max, nullptr);
+      send_down(k, m - m_max, nullptr, mat.max_compression);
       m = m_max;
     }
     // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic
@@ -187,15 +196,25 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     if (m <= 0) {  // emptied (the gap closed to nothing): the last of the liners' work on it is booked
       book_work(0.0);
       memory_[k] = mbd::BedCell{};
+      bed_[k] = mbd::CompactedBed{};
       continue;
     }
     double e = std::clamp(1.0 - cap / m, 0.0, mat.max_compression);
     if (e < 1e-9) e = 0;  // a cell filled to its loose capacity carries no load (round-off would hold it)
-    const mbd::BedCell before = memory_[k];
-    const double p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
-    if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {  // a compression event has ended
-      const double D = before.emax - before.e0;
-      breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
+    // A compression event ends when the liner leaves the rock; it breaks the rock by its ratio D / (1 - s0) from
+    // where it started (s0: the rock's compaction then; with memory, a reload within it is elastic and breaks none).
+    double p = 0, D = 0, s0 = 0;
+    if (p_.compaction_memory) {
+      const mbd::CompactedBed before = bed_[k];
+      p = mbd::bed_compacted(bed_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
+      if (before.pressed && !bed_[k].pressed) D = before.c - before.c_start, s0 = before.c_start;
+    } else {
+      const mbd::BedCell before = memory_[k];
+      p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
+      if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) D = before.emax - before.e0, s0 = before.e0;
+    }
+    if (D > 0) {
+      breakage_.apply(D / (1.0 - s0), &mass_[k * C]);
       total_[k] = sum_classes(k);
       if (D >= kCountedCompression) count_[k] += 1, ++events_;
     }
@@ -230,7 +249,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       movable += (pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j]);
     double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
-      const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - total_[k - S]);
+      const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));
       if (kg > room) kg = room, speed_[k] = std::min(speed_[k], speed_[k - S]);  // resting on the rock below
     }
     if (kg <= 0) {
@@ -238,12 +257,12 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       continue;
     }
     for (std::size_t j = 0; j < C; ++j) pass_[j] /= movable;
-    send_down(k, kg, pass_.data());
+    send_down(k, kg, pass_.data(), 0.0);
   }
   // Choke feed into the free cells of the top band.
   for (std::size_t k = cells() - S; p_.choke_feed && k < cells(); ++k) {
     if (pressure_[k] > 0) continue;
-    const double room = rho0_ * cells_.area[k / S] * gap_[k] - total_[k];
+    const double room = rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k);
     if (room > 0) fill(k, room);
   }
   return out;
@@ -258,7 +277,8 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put_vec(speed_);
   w.put_vec(count_);
   std::vector<double> mem;
-  for (const auto& c : memory_) mem.push_back(c.e0), mem.push_back(c.emax);
+  for (std::size_t k = 0; k < memory_.size(); ++k)
+    mem.insert(mem.end(), {memory_[k].e0, memory_[k].emax, bed_[k].c, bed_[k].c_start, double(bed_[k].pressed)});
   w.put_vec(mem);
   w.put_vec(out_);
   w.put_vec(gap_);
@@ -286,11 +306,16 @@ void FlowModel::load_state(core::BinaryReader& r) {
   std::vector<double> gap, pressure;
   r.get_vec(gap);
   r.get_vec(pressure);
-  if (mass.size() != n * classes() || speed.size() != n || count.size() != n || mem.size() != 2 * n ||
+  if (mass.size() != n * classes() || speed.size() != n || count.size() != n || mem.size() != 5 * n ||
       out.size() != classes() || gap.size() != n || pressure.size() != n)
     r.fail("flow model state is corrupt");
   mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap, pressure_ = pressure;
-  for (std::size_t k = 0; k < n; ++k) memory_[k] = {mem[2 * k], mem[2 * k + 1]}, total_[k] = sum_classes(k);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* q = &mem[5 * k];
+    memory_[k] = {q[0], q[1]};
+    bed_[k] = {q[2], q[3], q[4] != 0};
+    total_[k] = sum_classes(k);
+  }
   r.get(fed_);
   r.get(energy_);
   r.get(extrusion_);

@@ -56,6 +56,10 @@ struct FlowParams {
   std::vector<double> feed_passing;
   bool prefill = true;     // the chamber starts full of loose feed (at the first step's gap)
   bool choke_feed = true;  // false: no feed (the chamber runs empty)
+  // true: the rock keeps the compaction it was pressed to until it is re-poured (mbd::bed_compacted); false: every
+  // release forgets it and the next pressing starts a virgin curve where the rock is (mbd::bed_hysteretic, the
+  // model before; for comparison).
+  bool compaction_memory = true;
   FlowMaterial material;
   FlowParams();
 };
@@ -113,7 +117,8 @@ class FlowModel {
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
-  std::vector<mbd::BedCell> memory_;
+  std::vector<mbd::BedCell> memory_;     // the hysteretic law's (compaction_memory false)
+  std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
   std::vector<double> out_, pass_;  // discharged per class (cumulative); scratch
   double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
@@ -123,6 +128,7 @@ class FlowModel {
   void move(std::size_t from, double* to, double kg, const double* class_share, double* to_count);
   void fill(std::size_t k, double kg);  // loose feed
   double sum_classes(std::size_t k) const;
+  double loose_volume_mass(std::size_t k) const;
   void add(std::size_t k, const double* share, double scale, bool keep_speed);
 };
 

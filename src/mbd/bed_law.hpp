@@ -37,4 +37,41 @@ inline BedPressure bed_hysteretic(BedCell& c, double e, double E, double n, doub
   return {p, p * (e - er) / (n + 1.0)};
 }
 
+// Memory of the rock in one flow-model cell (chamber/flow_model.hpp): the compaction c, measured from the loose
+// pour, that it has been pressed to since it was poured; c at the start of the present pressing; whether pressed.
+struct CompactedBed {
+  double c = 0, c_start = 0;
+  bool pressed = false;
+};
+
+// Pre-compacted bed: rock pressed, released and pressed again without being re-poured keeps its compaction
+// (Evertsson 2000: the bed only loosens when it falls). e is the compaction from the loose pour. Beyond c the virgin
+// curve p = E e^n of the piston-die test; below c the unloading-reloading branch, which recovers `rebound` of c:
+// p = E c^n ((e - er) / (rebound c))^n, er = (1 - rebound) c; below er the liner has left the rock, p = 0, and the
+// rock keeps c. So a pressed-and-released bed reloads stiffly, without loss, up to c; a loop that takes it from c0
+// to c1 loses (1 - rebound) E (c1^(n+1) - c0^(n+1)) / (n + 1). Only re-pouring loosens it (mix_compaction).
+inline BedPressure bed_compacted(CompactedBed& b, double e, double E, double n, double rebound) {
+  const double er = (1.0 - rebound) * b.c;
+  if (e <= er || e <= 0) {
+    b.pressed = false;
+    return {};
+  }
+  if (!b.pressed) b.pressed = true, b.c_start = b.c;
+  if (e >= b.c) {
+    b.c = e;
+    const double p = E * bed_power(e, n);
+    return {p, p * rebound * e / (n + 1.0)};
+  }
+  const double p = E * bed_power(b.c, n) * bed_power((e - er) / (rebound * b.c), n);
+  return {p, p * (e - er) / (n + 1.0)};
+}
+
+// dm kg of rock at compaction c_in joins m kg at b.c: volumes add, m (1 - c) + dm (1 - c_in) loose-referenced, so
+// the mixture's compaction is the mass-weighted mean (loose feed or fallen, re-poured rock: c_in = 0).
+inline void mix_compaction(CompactedBed& b, double m, double dm, double c_in) {
+  if (m + dm <= 0) return;
+  b.c = (m * b.c + dm * c_in) / (m + dm);
+  b.c_start = (m * b.c_start + dm * c_in) / (m + dm);
+}
+
 }  // namespace mbd

@@ -116,6 +116,45 @@ TEST(FlowModel, OneCompressionEventBreaksTheClassesAsTheMatricesSay) {
   EXPECT_NEAR(m.cell_compressions(k), 1.0, 1e-15);
 }
 
+// The compacted bed (mbd::bed_compacted) in a cell: rock pressed, released half way (no gravity, so it is not
+// re-poured) and pressed to the same gap again meets the first pressing's pressure there, breaks no further and counts no second
+// event; the law that forgets the compaction at each release (compaction_memory false) meets almost nothing there.
+TEST(FlowModel, RePressedRockKeepsItsCompaction) {
+  for (bool memory : {true, false}) {
+    auto p = params(6, 8);
+    p.compaction_memory = memory;
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+    const std::size_t k = 2 * 8 + 0;
+    const double V0 = m.cell_area(k) * 0.05;
+    std::vector<double> feed(m.classes(), 0.0);
+    feed[m.classes() - 2] = V0 * m.loose_density();  // 50-63 mm, loose in the 50 mm gap
+    m.deposit(k, feed);
+    m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+    const int n = 1000;
+    auto press = [&](int from, int to) {
+      for (int i = from; from < to ? i <= to : i >= to; i += from < to ? 1 : -1)
+        m.step(shifted({0.012 * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+    };
+    press(1, n);
+    const double p1 = m.cell_pressure(k), s = 1 - m.cell_gap(k) / 0.05;
+    EXPECT_NEAR(p1, p.material.modulus_Pa * std::pow(s, p.material.exponent), 1e-6 * p1);
+    press(n - 1, n / 2);  // half way back: the liner leaves the rock (rebound 0.15 of s)
+    ASSERT_EQ(m.cell_pressure(k), 0.0);
+    ASSERT_EQ(m.events(), 1);
+    const std::vector<double> after1(m.cell_classes(k), m.cell_classes(k) + m.classes());
+    press(n / 2 + 1, n);
+    if (memory) {
+      EXPECT_NEAR(m.cell_pressure(k), p1, 1e-6 * p1);
+      press(n - 1, n / 2);
+      EXPECT_EQ(m.events(), 1) << "a reload within the compaction reached is no new event";
+      for (std::size_t j = 0; j < m.classes(); ++j) EXPECT_EQ(m.cell_classes(k)[j], after1[j]) << "class " << j;
+      EXPECT_NEAR(m.cell_compressions(k), 1.0, 1e-15);
+    } else {
+      EXPECT_LT(m.cell_pressure(k), 0.3 * p1);  // virgin from half way: about (1/2)^n of p1
+    }
+  }
+}
+
 // Forces: -F on the mantle at its point, F on the concave, F = p A n: the sums cancel, torques about one point
 // cancel, and the normal force is the sum of the cells' p A.
 TEST(FlowModel, LinerWrenchIsActionAndReactionOfTheCellPressures) {

@@ -72,4 +72,54 @@ TEST(BedLaw, RefillStartsAVirginCurveAtTheOpenGap) {
   EXPECT_NEAR(mbd::bed_hysteretic(c, 0.3, kE, kN, rebound).p, kE * std::pow(0.2, 1.5), 1e-6 * kE);
 }
 
+// Work per unit loose volume, integral of p de, of the compacted bed along a strain path (trapezoids).
+double compacted_work(mbd::CompactedBed& b, double e_from, double e_to, double rebound, int steps = 20000) {
+  double w = 0, e_prev = e_from, p_prev = mbd::bed_compacted(b, e_from, kE, kN, rebound).p;
+  for (int i = 1; i <= steps; ++i) {
+    const double e = e_from + (e_to - e_from) * i / steps;
+    const double p = mbd::bed_compacted(b, e, kE, kN, rebound).p;
+    w += 0.5 * (p + p_prev) * (e - e_prev);
+    e_prev = e, p_prev = p;
+  }
+  return w;
+}
+
+// A bed pressed to 0.3, released until the liner leaves it, pressed again: it keeps its compaction, so the second
+// pressing meets E 0.3^n at 0.3 (the hysteretic law, which forgets it, meets nothing there), reloads without loss,
+// and the loop to 0.4 loses (1 - rebound) E (0.4^(n+1) - 0.3^(n+1)) / (n + 1).
+TEST(BedLaw, CompactedBedKeepsItsCompactionUntilRePoured) {
+  const double rebound = 0.05;
+  mbd::CompactedBed b;
+  const double w1 = compacted_work(b, 0.0, 0.3, rebound);
+  EXPECT_NEAR(w1, kE * std::pow(0.3, kN + 1) / (kN + 1), 1e-4 * w1) << "virgin curve from the loose pour";
+  EXPECT_TRUE(b.pressed);
+  EXPECT_NEAR(b.c_start, 0.0, 1e-15);
+  compacted_work(b, 0.3, 0.1, rebound);  // released past er = 0.285: the liner has left the rock
+  EXPECT_FALSE(b.pressed);
+  EXPECT_NEAR(b.c, 0.3, 1e-12);
+  EXPECT_EQ(mbd::bed_compacted(b, 0.28, kE, kN, rebound).p, 0.0);
+  // Pressed again: stiff reloading branch, the full virgin pressure at 0.3.
+  const double w_reload = compacted_work(b, 0.1, 0.3, rebound);
+  EXPECT_NEAR(mbd::bed_compacted(b, 0.3, kE, kN, rebound).p, kE * std::pow(0.3, kN), 1e-9 * kE);
+  EXPECT_NEAR(b.c_start, 0.3, 1e-12) << "this pressing started at the compaction already reached";
+  EXPECT_NEAR(w_reload, rebound * w1, 2e-3 * w1) << "the recoverable part only";
+  mbd::BedCell forgetting;  // the hysteretic law, which refills loose at every release
+  work_along(forgetting, 0.0, 0.3, rebound);
+  work_along(forgetting, 0.3, 0.1, rebound);
+  EXPECT_NEAR(mbd::bed_hysteretic(forgetting, 0.3, kE, kN, rebound).p, kE * std::pow(0.2, kN), 1e-6 * kE);  // from 0.1
+  // On to 0.4 and back to slack: the loop's loss.
+  const double w_loop = w_reload + compacted_work(b, 0.3, 0.4, rebound) + compacted_work(b, 0.4, 0.0, rebound);
+  const double loss = (1 - rebound) * kE * (std::pow(0.4, kN + 1) - std::pow(0.3, kN + 1)) / (kN + 1);
+  EXPECT_NEAR(w_loop, loss, 1e-3 * loss);
+  EXPECT_NEAR(b.c, 0.4, 1e-12);
+  // Re-pouring: as much loose rock again (volumes add) halves the compaction; rock of the same compaction keeps it.
+  mbd::mix_compaction(b, 2.0, 2.0, 0.0);
+  EXPECT_NEAR(b.c, 0.2, 1e-12);
+  const double volume = 2.0 * (1 - 0.4) + 2.0 * 1.0, mixture = 4.0 * (1 - b.c);  // loose-referenced volumes
+  EXPECT_NEAR(volume, mixture, 1e-12);
+  mbd::mix_compaction(b, 4.0, 1.0, 0.2);
+  EXPECT_NEAR(b.c, 0.2, 1e-12);
+}
+
 }  // namespace
+
