@@ -41,17 +41,18 @@ Breakage::Breakage(const std::vector<double>& sieves, const BreakageParams& p) :
   work_.resize(n);
 }
 
-double Breakage::selection(std::size_t j, double s) const {
-  if (s <= 0) return 0.0;
-  return 1.0 - std::exp(-std::pow(s / sc_[j], p_.m));
+double Breakage::selection_between(std::size_t j, double s0, double s1) const {
+  if (s1 <= s0 || s1 <= 0) return 0.0;
+  const double rise = std::pow(s1 / sc_[j], p_.m) - (s0 > 0 ? std::pow(s0 / sc_[j], p_.m) : 0.0);
+  return 1.0 - std::exp(-rise);
 }
 
-void Breakage::apply(double s, double* f) const {
+void Breakage::apply_between(double s0, double s1, double* f) const {
   const std::size_t n = x_.size();
   for (std::size_t i = 0; i < n; ++i) work_[i] = 0.0;
   for (std::size_t j = 0; j < n; ++j) {
     if (f[j] == 0.0) continue;
-    const double broken = selection(j, s) * f[j];
+    const double broken = selection_between(j, s0, s1) * f[j];
     work_[j] += f[j] - broken;
     for (std::size_t i = 0; i <= j; ++i) work_[i] += b(i, j) * broken;
   }

@@ -28,10 +28,15 @@ class Breakage {
   double size(std::size_t j) const { return x_[j]; }    // representative size of class j (m)
   double lower(std::size_t j) const { return lo_[j]; }  // lower bound (m, 0 for the pan)
   double upper(std::size_t j) const { return up_[j]; }  // upper bound (m; top class: largest sieve x sqrt 2)
-  double selection(std::size_t j, double s) const;      // S_j(s)
+  double selection(std::size_t j, double s) const { return selection_between(j, 0.0, s); }  // S_j(s)
+  // Share of class j selected by a pressing from compaction s0 on to s1 (loose-referenced), by the rise of the hazard
+  // (s / s_cj)^m: 1 - exp(-((s1 / s_cj)^m - (s0 / s_cj)^m)), so that pressings 0 -> s0 -> s1 select as one to s1.
+  double selection_between(std::size_t j, double s0, double s1) const;
   double b(std::size_t i, std::size_t j) const { return B_[i * x_.size() + j]; }  // class j -> class i (i <= j)
   // One event of compression ratio s applied in place to the mass vector f (kg per class).
-  void apply(double s, double* f) const;
+  void apply(double s, double* f) const { apply_between(0.0, s, f); }
+  // A pressing that takes rock already compacted to s0 on to s1: p = [B S + I - S] f with S = selection_between.
+  void apply_between(double s0, double s1, double* f) const;
 
  private:
   BreakageParams p_;

@@ -38,7 +38,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
           "needs a solid density > 0 and a loose fraction in (0, 1)");
   require(m.modulus_Pa > 0 && m.exponent >= 1, "pressure law needs modulus > 0 and exponent >= 1");
   require(m.rebound > 0 && m.rebound <= 1, "rebound must be in (0, 1]");
-  require(m.max_compression > 0 && m.max_compression < 1, "max_compression must be in (0, 1)");
+  require(m.max_compression > 0 && m.max_compression <= solid_compaction_limit(m.loose_fraction) + 1e-12,
+          "max_compression must be in (0, 1 - loose_solid_fraction]: beyond it the rock would be denser than solid");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
   for (std::size_t i = 0; i < p.feed_passing.size(); ++i)
     require(p.feed_passing[i] >= 0 && p.feed_passing[i] <= 1 && (i == 0 || p.feed_passing[i] >= p.feed_passing[i - 1]),
@@ -201,20 +202,26 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     }
     double e = std::clamp(1.0 - cap / m, 0.0, mat.max_compression);
     if (e < 1e-9) e = 0;  // a cell filled to its loose capacity carries no load (round-off would hold it)
-    // A compression event ends when the liner leaves the rock; it breaks the rock by its ratio D / (1 - s0) from
-    // where it started (s0: the rock's compaction then; with memory, a reload within it is elastic and breaks none).
-    double p = 0, D = 0, s0 = 0;
+    // A compression event ends when the liner leaves the rock. With memory it took the rock from the compaction it had
+    // (c_start) on to c and selects by the hazard's rise between them (a reload within c breaks nothing); without,
+    // by its ratio D / (1 - s0) from where it started.
+    double p = 0, D = 0;
     if (p_.compaction_memory) {
       const mbd::CompactedBed before = bed_[k];
       p = mbd::bed_compacted(bed_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
-      if (before.pressed && !bed_[k].pressed) D = before.c - before.c_start, s0 = before.c_start;
+      if (before.pressed && !bed_[k].pressed && before.c > before.c_start) {
+        D = before.c - before.c_start;
+        breakage_.apply_between(before.c_start, before.c, &mass_[k * C]);
+      }
     } else {
       const mbd::BedCell before = memory_[k];
       p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
-      if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) D = before.emax - before.e0, s0 = before.e0;
+      if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
+        D = before.emax - before.e0;
+        breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
+      }
     }
     if (D > 0) {
-      breakage_.apply(D / (1.0 - s0), &mass_[k * C]);
       total_[k] = sum_classes(k);
       if (D >= kCountedCompression) count_[k] += 1, ++events_;
     }

@@ -41,9 +41,14 @@ struct FlowMaterial {
   double modulus_Pa = 50e6;      // virgin loading p = E s^n
   double exponent = 2.0;
   double rebound = 0.15;         // recovered fraction of each compression
-  double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max))
+  double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max)), at most the solid's (below)
   BreakageParams breakage;
 };
+
+// The compaction limit of a bed: its solid density (rho0 / (1 - s) = solid density, s = 1 - loose fraction). No bed
+// is denser; the piston-die fit takes it as the flow material's max_compression and extrapolates its pressure law
+// from the deepest pressing to it, rather than capping the pressure where the die stopped.
+inline double solid_compaction_limit(double loose_fraction) { return 1.0 - loose_fraction; }
 
 // The paper's -50 mm marble feed (section 3.2), taken as P(x) = (x / 50 mm)^2.5 below 50 mm: fraction passing.
 std::vector<double> default_feed_passing(const std::vector<double>& sieves_m);
@@ -56,10 +61,10 @@ struct FlowParams {
   std::vector<double> feed_passing;
   bool prefill = true;     // the chamber starts full of loose feed (at the first step's gap)
   bool choke_feed = true;  // false: no feed (the chamber runs empty)
-  // true: the rock keeps the compaction it was pressed to until it is re-poured (mbd::bed_compacted); false: every
-  // release forgets it and the next pressing starts a virgin curve where the rock is (mbd::bed_hysteretic, the
-  // model before; for comparison).
-  bool compaction_memory = true;
+  // false (shipped): every release forgets the compaction and the next pressing starts a virgin curve where the rock
+  // is (mbd::bed_hysteretic). true: the rock keeps it until re-poured (mbd::bed_compacted; breakage by the hazard's
+  // rise). Not shipped: on the GYP1200 it jams the feed opening (17 t/h at 400 rpm; src/chamber/README.md).
+  bool compaction_memory = false;
   FlowMaterial material;
   FlowParams();
 };

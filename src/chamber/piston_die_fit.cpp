@@ -184,11 +184,8 @@ MaterialFit fit_flow_material(const PistonDieResult& r) {
     if (deep->phase[k] == 0) s.push_back(deep->s[k]), p.push_back(deep->p[k]);
   m.pressure_fit = fit_power_law(s, p, 0.02);
   mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
-  mat.max_compression = 0.0;  // the largest s reached
-  for (const auto& L : r.loops) {
-    D.push_back(L.s_reached), loss.push_back(L.loop_energy);
-    mat.max_compression = std::max(mat.max_compression, L.s_reached);
-  }
+  for (const auto& L : r.loops) D.push_back(L.s_reached), loss.push_back(L.loop_energy);
+  mat.max_compression = solid_compaction_limit(mat.loose_fraction);
   mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
   fit_breakage(r, m);
   return m;
@@ -256,7 +253,6 @@ MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts) {
   auto& mat = m.material;
   std::vector<double> s, p, D, loss;
   bool unloaded = false;
-  mat.max_compression = 0.0;  // the largest s reached
   for (const auto& L : loops) {
     std::vector<double> ls, lp;
     double dmax = 0;
@@ -267,7 +263,6 @@ MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts) {
       if (ph[k] == 0) s.push_back(pts[k].s), p.push_back(pts[k].p);
       else has_unload = true;
     }
-    mat.max_compression = std::max(mat.max_compression, dmax);
     if (has_unload) {
       D.push_back(dmax), loss.push_back(path_integral(ls, lp));
       unloaded = true;
@@ -278,6 +273,7 @@ MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts) {
   if (unloaded) mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
   else m.comments.push_back("no unloading branch in the lab data: rebound default " + fmt("%g", mat.rebound));
   m.comments.push_back("loose_solid_fraction not in the lab data: default " + fmt("%g", mat.loose_fraction));
+  mat.max_compression = solid_compaction_limit(mat.loose_fraction);
   m.breakage_note = "breakage not fitted (the lab data holds no PSD): defaults";
   return m;
 }

@@ -65,6 +65,15 @@ TEST(Breakage, MatricesConserveMassAndFollowTheirFunctions) {
     EXPECT_NEAR(p[i], e, 1e-13) << "class " << i;
   }
   EXPECT_NEAR(sum(p), sum(f), 1e-13);
+  // Pressings 0 -> 0.15 -> 0.25 select as one to 0.25 (the survivors' shares multiply), and a pressing within the
+  // compaction reached selects nothing.
+  for (std::size_t j = 0; j < br.classes(); ++j)
+    EXPECT_NEAR((1 - br.selection_between(j, 0, 0.15)) * (1 - br.selection_between(j, 0.15, 0.25)),
+                1 - br.selection(j, 0.25), 1e-14) << "class " << j;
+  EXPECT_GT(br.selection_between(5, 0.15, 0.25), 0.0);
+  std::vector<double> again = p;
+  br.apply_between(0.25, 0.2, again.data());
+  EXPECT_EQ(again, p);
   EXPECT_THROW(chamber::Breakage({2e-3, 1e-3}, bp), std::invalid_argument);
 }
 
@@ -77,6 +86,16 @@ TEST(FlowModel, RejectsBadParametersByName) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("rebound"), std::string::npos) << e.what();
   }
+  p = params(4, 8);
+  p.material.loose_fraction = 0.55, p.material.max_compression = 0.46;  // denser than the solid rock
+  try {
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+    FAIL() << "accepted a compaction limit beyond the solid";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("denser than solid"), std::string::npos) << e.what();
+  }
+  p.material.max_compression = 0.45;
+  EXPECT_NO_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)));
   p = params(4, 8);
   p.feed_passing.pop_back();
   EXPECT_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)), std::invalid_argument);
@@ -153,6 +172,37 @@ TEST(FlowModel, RePressedRockKeepsItsCompaction) {
       EXPECT_LT(m.cell_pressure(k), 0.3 * p1);  // virgin from half way: about (1/2)^n of p1
     }
   }
+}
+
+// With memory, rock pressed half way (to s1), released and pressed on (to s2) breaks by the two pressings 0 -> s1 and
+// s1 -> s2 (whose selections compose to one to s2): the cell's classes exactly; two events are counted.
+TEST(FlowModel, PressingInTwoStepsBreaksAsOne) {
+  auto p = params(6, 8);
+  p.compaction_memory = true;
+  chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+  const std::size_t k = 2 * 8 + 0, top = m.classes() - 2;  // 50-63 mm
+  std::vector<double> feed(m.classes(), 0.0);
+  feed[top] = m.cell_area(k) * 0.05 * m.loose_density();
+  m.deposit(k, feed);
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+  const int n = 1000;
+  auto go = [&](int from, int to) {
+    for (int i = from; from < to ? i <= to : i >= to; i += from < to ? 1 : -1)
+      m.step(shifted({0.016 * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+  };
+  go(1, n / 2);
+  const double s1 = 1 - m.cell_gap(k) / 0.05;
+  go(n / 2 - 1, 0);
+  go(1, n);
+  const double s = 1 - m.cell_gap(k) / 0.05;
+  go(n - 1, 0);
+  EXPECT_EQ(m.events(), 2);
+  std::vector<double> expect = feed;
+  m.breakage().apply_between(0, s1, expect.data());
+  m.breakage().apply_between(s1, s, expect.data());
+  for (std::size_t j = 0; j < m.classes(); ++j)
+    EXPECT_NEAR(m.cell_classes(k)[j], expect[j], 1e-12 * feed[top]) << "class " << j;
+  EXPECT_LT(m.cell_classes(k)[top], 0.99 * feed[top]);
 }
 
 // Forces: -F on the mantle at its point, F on the concave, F = p A n: the sums cancel, torques about one point
