@@ -262,7 +262,8 @@ def main(argv):
     try:
         bag = rosbag.Bag(a.bag)
     except Exception as e:  # rosbag raises ROSBagException, ROSBagFormatException, ValueError, ...
-        print(f"export: {a.bag} cannot be read as a bag ({type(e).__name__}: {e})", file=sys.stderr)
+        hint = "; not closed (a node killed?): `rosbag reindex` may repair it" if "Unindexed" in type(e).__name__ else ""
+        print(f"export: {a.bag} cannot be read as a bag ({type(e).__name__}: {e}{hint})", file=sys.stderr)
         return 2
     try:
         with bag:
