@@ -2,7 +2,8 @@
 // lockstep coupling. Parameters: ~config (path, required), ~out (dir for dem.bag and breaks.csv; scripts/crusher
 // run merges dem.bag into mbd_node's run.bag with merge_bags), ~duration (s, overrides run.duration_s).
 // Answers each /crusher/geometry_state with the time-averaged liner wrench for the same step, and publishes
-// particles, liners, the concave force map and the screened product at run.tf_hz of sim time.
+// particles (markers, and /crusher/particle_state with fragment, velocity and force), liners, the concave force map
+// and the screened product at run.tf_hz of sim time.
 // ~resume (true): continue the run in ~out from the newest checkpoint both nodes wrote. With
 // run.checkpoint_every_s > 0 the state is saved at the same coupling steps as mbd_node's, and the bag is
 // written in segments dem.seg<step>.bag (scripts/crusher run joins them).
@@ -29,6 +30,7 @@
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "nodes/dem_node_cloud.hpp"
 #include "nodes/ros_common.hpp"
 
 namespace {
@@ -111,6 +113,7 @@ class DemNode {
                coupling::CrushingStrength(cr).sigma(0.01) * 1e-6, cr.size_exponent);
     pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
     pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);
+    pub_state_ = nh.advertise<sensor_msgs::PointCloud2>("/crusher/particle_state", 2, true);
     pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
     pub_product_ = nh.advertise<inertia_crusher::ProductStream>("/crusher/product", 100, true);
     pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
@@ -311,9 +314,13 @@ class DemNode {
     auto map_markers = force_map_markers(stamp, fm.mean_normal_force);
     pub_map_markers_.publish(map_markers);
     bag_.write("/crusher/concave_force_markers", stamp, map_markers);
-    auto parts = particle_markers(stamp);
+    const auto labels = dem_->fragment_labels();
+    auto parts = particle_markers(stamp, labels);
     pub_particles_.publish(parts);
     bag_.write("/crusher/particles", stamp, parts);
+    auto state = nodes::particle_cloud(stamp, dem_->world().particles(), labels);
+    pub_state_.publish(state);
+    bag_.write("/crusher/particle_state", stamp, state);
     auto liners = liner_markers(stamp);
     pub_liners_.publish(liners);
     bag_.write("/crusher/liners", stamp, liners);
@@ -330,9 +337,8 @@ class DemNode {
   }
 
   // SPHERE_LIST per radius bin (a marker has one scale), coloured by fragment.
-  visualization_msgs::MarkerArray particle_markers(const ros::Time& stamp) {
+  visualization_msgs::MarkerArray particle_markers(const ros::Time& stamp, const std::vector<int>& labels) {
     const auto& P = dem_->world().particles();
-    const auto labels = dem_->fragment_labels();
     constexpr int kBins = 6;
     double rmin = 1e9, rmax = 0;
     for (double r : P.r) rmin = std::min(rmin, r), rmax = std::max(rmax, r);
@@ -477,7 +483,7 @@ class DemNode {
   std::uint64_t last_checkpoint_ = 0, resume_step_ = 0;
   std::unique_ptr<coupling::ChamberDem> dem_;
   coupling::Follower follower_;
-  ros::Publisher pub_wrench_, pub_particles_, pub_liners_, pub_product_, pub_map_, pub_map_markers_;
+  ros::Publisher pub_wrench_, pub_particles_, pub_state_, pub_liners_, pub_product_, pub_map_, pub_map_markers_;
   ros::Subscriber sub_;
   nodes::BagRecorder bag_;
   std::ofstream breaks_;

@@ -10,8 +10,8 @@ import sys
 
 import rosbag
 
-DEM_TOPICS = ("/crusher/geometry_wrench", "/crusher/particles", "/crusher/liners", "/crusher/product",
-              "/crusher/concave_forces")
+DEM_TOPICS = ("/crusher/geometry_wrench", "/crusher/particles", "/crusher/particle_state", "/crusher/liners",
+              "/crusher/product", "/crusher/concave_forces")
 
 
 def fail(msg):
@@ -89,6 +89,8 @@ def main(out):
     if outputs < 0.9 * s["simulated_s"] * 20 or c_run["/crusher/liners"] != outputs:
         fail(f"run.bag holds {outputs} particle and {c_run['/crusher/liners']} liner samples for "
              f"{s['simulated_s']} s at 20 Hz")
+    if c_run.get("/crusher/particle_state") != outputs:
+        fail(f"run.bag holds {c_run.get('/crusher/particle_state')} particle-state samples, expected {outputs}")
     if c_run.get("/crusher/concave_force_markers") != outputs:
         fail(f"run.bag holds {c_run.get('/crusher/concave_force_markers')} force-map marker samples, expected {outputs}")
     if c_run["/crusher/product"] != outputs + 1 or c_run["/crusher/concave_forces"] != outputs + 1:
