@@ -32,6 +32,12 @@ const Eigen::Vector3d kComM(0, 0, -0.5), kComC(0, 0, -0.6);
 
 double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
 
+// The mantle shifted towards +x by d i / n for i from `from` to `to` (either way), one still step each.
+void shift_steps(chamber::FlowModel& m, double d, int n, int from, int to) {
+  for (int i = from; from < to ? i <= to : i >= to; i += from < to ? 1 : -1)
+    m.step(shifted({d * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+}
+
 }  // namespace
 
 TEST(Breakage, MatricesConserveMassAndFollowTheirFunctions) {
@@ -150,10 +156,7 @@ TEST(FlowModel, RePressedRockKeepsItsCompaction) {
     m.deposit(k, feed);
     m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
     const int n = 1000;
-    auto press = [&](int from, int to) {
-      for (int i = from; from < to ? i <= to : i >= to; i += from < to ? 1 : -1)
-        m.step(shifted({0.012 * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
-    };
+    auto press = [&](int from, int to) { shift_steps(m, 0.012, n, from, to); };
     press(1, n);
     const double p1 = m.cell_pressure(k), s = 1 - m.cell_gap(k) / 0.05;
     EXPECT_NEAR(p1, p.material.modulus_Pa * std::pow(s, p.material.exponent), 1e-6 * p1);
@@ -186,10 +189,7 @@ TEST(FlowModel, PressingInTwoStepsBreaksAsOne) {
   m.deposit(k, feed);
   m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
   const int n = 1000;
-  auto go = [&](int from, int to) {
-    for (int i = from; from < to ? i <= to : i >= to; i += from < to ? 1 : -1)
-      m.step(shifted({0.016 * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
-  };
+  auto go = [&](int from, int to) { shift_steps(m, 0.016, n, from, to); };
   go(1, n / 2);
   const double s1 = 1 - m.cell_gap(k) / 0.05;
   go(n / 2 - 1, 0);

@@ -9,16 +9,21 @@ namespace {
 
 constexpr double kE = 8e6, kN = 1.5;
 
-// Work per unit area and reference gap, integral of p de, along a strain path (trapezoids).
-double work_along(mbd::BedCell& c, double e_from, double e_to, double rebound, int steps = 20000) {
-  double w = 0, e_prev = e_from, p_prev = mbd::bed_hysteretic(c, e_from, kE, kN, rebound).p;
+// Work per unit area and reference gap, integral of p de, along a strain path (trapezoids); p_at(e) steps a law.
+template <class Law>
+double work_of(Law p_at, double e_from, double e_to, int steps = 20000) {
+  double w = 0, e_prev = e_from, p_prev = p_at(e_from);
   for (int i = 1; i <= steps; ++i) {
     const double e = e_from + (e_to - e_from) * i / steps;
-    const double p = mbd::bed_hysteretic(c, e, kE, kN, rebound).p;
+    const double p = p_at(e);
     w += 0.5 * (p + p_prev) * (e - e_prev);
     e_prev = e, p_prev = p;
   }
   return w;
+}
+
+double work_along(mbd::BedCell& c, double e_from, double e_to, double rebound) {
+  return work_of([&](double e) { return mbd::bed_hysteretic(c, e, kE, kN, rebound).p; }, e_from, e_to);
 }
 
 TEST(BedLaw, ElasticStoresItsWork) {
@@ -72,16 +77,9 @@ TEST(BedLaw, RefillStartsAVirginCurveAtTheOpenGap) {
   EXPECT_NEAR(mbd::bed_hysteretic(c, 0.3, kE, kN, rebound).p, kE * std::pow(0.2, 1.5), 1e-6 * kE);
 }
 
-// Work per unit loose volume, integral of p de, of the compacted bed along a strain path (trapezoids).
-double compacted_work(mbd::CompactedBed& b, double e_from, double e_to, double rebound, int steps = 20000) {
-  double w = 0, e_prev = e_from, p_prev = mbd::bed_compacted(b, e_from, kE, kN, rebound).p;
-  for (int i = 1; i <= steps; ++i) {
-    const double e = e_from + (e_to - e_from) * i / steps;
-    const double p = mbd::bed_compacted(b, e, kE, kN, rebound).p;
-    w += 0.5 * (p + p_prev) * (e - e_prev);
-    e_prev = e, p_prev = p;
-  }
-  return w;
+// The same per unit loose volume for the compacted bed.
+double compacted_work(mbd::CompactedBed& b, double e_from, double e_to, double rebound) {
+  return work_of([&](double e) { return mbd::bed_compacted(b, e, kE, kN, rebound).p; }, e_from, e_to);
 }
 
 // A bed pressed to 0.3, released until the liner leaves it, pressed again: it keeps its compaction, so the second
