@@ -115,7 +115,9 @@ int run_lab(const Args& a) {
   const chamber::MaterialFit m = chamber::fit_flow_material_lab(pts);
   std::ofstream csv(a.out + "/piston_die.csv");
   csv << "s_max,phase,s,p_MPa\n";
-  for (const auto& q : pts) csv << f("%.4f", m.material.max_compression) << "," << (q.phase == 1 ? "unload" : "load") << ","
+  double s_max = 0;  // the deepest pressing of the lab data (the material's max_compression is the solid limit)
+  for (const auto& q : pts) s_max = std::max(s_max, q.s);
+  for (const auto& q : pts) csv << f("%.4f", s_max) << "," << (q.phase == 1 ? "unload" : "load") << ","
                                 << q.s << "," << q.p * 1e-6 << "\n";
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml",
                                     {"written by: " + a.command, "source: laboratory piston-die data " + a.lab + " (" +
