@@ -6,13 +6,20 @@
 
 namespace chamber {
 
+double critical_compression(const BreakageParams& p, double x) {
+  if (x >= p.x_resolved) return p.s_c * std::pow(x / p.x_ref, -p.q);
+  return critical_compression(p, p.x_resolved) * std::pow(x / p.x_resolved, -p.q_below);
+}
+
 Breakage::Breakage(const std::vector<double>& sieves, const BreakageParams& p) : p_(p) {
   if (sieves.empty()) throw std::invalid_argument("breakage: needs at least one sieve");
   for (std::size_t i = 0; i < sieves.size(); ++i)
     if (!(sieves[i] > 0) || (i > 0 && sieves[i] <= sieves[i - 1]))
       throw std::invalid_argument("breakage: sieves must be positive and strictly ascending");
-  if (!(p.s_c > 0) || !(p.m > 0) || p.q < 0 || !(p.x_ref > 0))
-    throw std::invalid_argument("breakage: selection needs s_c > 0, exponent > 0, size_exponent >= 0, x_ref > 0");
+  if (!(p.s_c > 0) || !(p.m > 0) || p.q < 0 || !(p.x_ref > 0) || p.x_resolved < 0 || p.q_below < 0)
+    throw std::invalid_argument(
+        "breakage: selection needs s_c > 0, exponent > 0, size_exponent >= 0, x_ref > 0, resolved size >= 0, "
+        "size_exponent_below >= 0");
   if (p.phi < 0 || p.phi > 1 || !(p.gamma > 0) || !(p.beta > 0))
     throw std::invalid_argument("breakage: progeny needs phi in [0, 1], gamma > 0, beta > 0");
   const std::size_t K = sieves.size();
@@ -21,7 +28,7 @@ Breakage::Breakage(const std::vector<double>& sieves, const BreakageParams& p) :
     lo_.push_back(lo);
     up_.push_back(up);
     x_.push_back(j == 0 ? 0.5 * sieves[0] : std::sqrt(lo * up));
-    sc_.push_back(p.s_c * std::pow(x_.back() / p.x_ref, -p.q));
+    sc_.push_back(critical_compression(p, x_.back()));
   }
   const std::size_t n = x_.size();
   B_.assign(n * n, 0.0);

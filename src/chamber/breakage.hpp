@@ -4,6 +4,8 @@
 // compression ratio. S is diagonal (the share of each class selected), B lower triangular with columns summing
 // to one (mass conserved).
 //   selection  S_j(s) = 1 - exp(-(s / s_cj)^m),  s_cj = s_c (x_j / x_ref)^(-q)   (coarser classes break sooner)
+//              below the smallest size the piston-die test resolves (x_res): s_cj = s_c(x_res) (x_j / x_res)^(-q_below),
+//              q_below by default the lump strength's size effect of the ISRM point-load test, (D / 50 mm)^0.45
 //   progeny    B(x; y) = phi (x/y)^gamma + (1 - phi) (x/y)^beta   (Austin's cumulative form, y = top of class j)
 // Classes follow ascending sieves x_0 < ... < x_{K-1}: class 0 is the pan (below x_0), class k holds
 // (x_{k-1}, x_k], class K what is above the largest sieve. x_j is the geometric mean of its bounds (pan: x_0 / 2,
@@ -17,8 +19,13 @@ struct BreakageParams {
   double m = 2.0;         // selection exponent
   double q = 0.5;         // size exponent of s_c
   double x_ref = 10e-3;   // m
+  double x_resolved = 0;  // m: smallest size the selection law was measured at (0: the law holds at every size)
+  double q_below = 0.45;  // size exponent of s_c below x_resolved (ISRM point-load size correction)
   double phi = 0.4, gamma = 0.8, beta = 3.0;  // progeny
 };
+
+// s_cj of a class of representative size x (m): the law above, continuous at x_resolved.
+double critical_compression(const BreakageParams& p, double x);
 
 class Breakage {
  public:

@@ -27,6 +27,8 @@ FlowMaterial flow_material_from_config(const core::ConfigNode& n, const FlowMate
     b.m = s.number_or("exponent", b.m, 0.1, 10, "");
     b.q = s.number_or("size_exponent", b.q, 0, 5, "");
     b.x_ref = s.number_or("x_ref_mm", b.x_ref / u::mm, 0.01, 1000, "mm", u::mm);
+    b.x_resolved = s.number_or("resolved_mm", b.x_resolved / u::mm, 0, 1000, "mm", u::mm);
+    b.q_below = s.number_or("size_exponent_below", b.q_below, 0, 5, "");
   }
   if (n.has("progeny")) {
     auto p = n.child("progeny");
@@ -95,7 +97,8 @@ std::string flow_material_yaml(const FlowMaterial& m) {
     << "  pressure: {modulus_MPa: " << m.modulus_Pa / u::MPa << ", exponent: " << m.exponent
     << ", rebound: " << m.rebound << ", max_compression: " << m.max_compression << "}\n"
     << "  selection: {s_c: " << b.s_c << ", exponent: " << b.m << ", size_exponent: " << b.q
-    << ", x_ref_mm: " << b.x_ref / u::mm << "}\n"
+    << ", x_ref_mm: " << b.x_ref / u::mm << ", resolved_mm: " << b.x_resolved / u::mm
+    << ", size_exponent_below: " << b.q_below << "}\n"
     << "  progeny: {phi: " << b.phi << ", gamma: " << b.gamma << ", beta: " << b.beta << "}\n";
   return y.str();
 }

@@ -52,6 +52,7 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
     if (r.feed_passing[use[i + 1]] - r.feed_passing[use[i]] >= 0.10) ++feed_classes;
   const bool fit_q = feed_classes >= 2, fit_m = r.loops.size() >= 2;
   BreakageParams b0;
+  b0.x_resolved = r.min_resolved;  // below it: q_below (breakage.hpp), not fitted here
   auto unpack = [&](const std::vector<double>& u) {
     BreakageParams b = b0;
     std::size_t k = 0;
@@ -96,7 +97,8 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
   m.fitted.push_back("phi");
   m.fitted.push_back("gamma");
   m.breakage_note = "breakage fitted on " + classes + "; " + (fit_q ? "" : "q, ") + (fit_m ? "" : "m, ") +
-                    "beta: defaults (the resolved sizes do not constrain them)";
+                    "beta: defaults (the resolved sizes do not constrain them); below " + fmt("%g", r.min_resolved * 1e3) +
+                    " mm s_c follows the ISRM point-load size effect, exponent " + fmt("%g", b0.q_below);
 }
 
 }  // namespace
@@ -302,7 +304,8 @@ void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
   out << "  pressure: {modulus_MPa: " << fmt("%.6g", mat.modulus_Pa * 1e-6) << ", exponent: " << fmt("%.4f", mat.exponent)
       << ", rebound: " << fmt("%.4f", mat.rebound) << ", max_compression: " << fmt("%.4f", mat.max_compression) << "}\n";
   out << "  selection: {s_c: " << fmt("%.4f", b.s_c) << ", exponent: " << fmt("%.4f", b.m)
-      << ", size_exponent: " << fmt("%.4f", b.q) << ", x_ref_mm: " << fmt("%g", b.x_ref * 1e3) << "}\n";
+      << ", size_exponent: " << fmt("%.4f", b.q) << ", x_ref_mm: " << fmt("%g", b.x_ref * 1e3)
+      << ", resolved_mm: " << fmt("%g", b.x_resolved * 1e3) << ", size_exponent_below: " << fmt("%g", b.q_below) << "}\n";
   out << "  progeny: {phi: " << fmt("%.4f", b.phi) << ", gamma: " << fmt("%.4f", b.gamma)
       << ", beta: " << fmt("%.4f", b.beta) << "}\n";
   if (!out) throw std::runtime_error("write_flow_material_yaml: writing '" + file + "' failed");

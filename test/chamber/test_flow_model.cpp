@@ -83,6 +83,34 @@ TEST(Breakage, MatricesConserveMassAndFollowTheirFunctions) {
   EXPECT_THROW(chamber::Breakage({2e-3, 1e-3}, bp), std::invalid_argument);
 }
 
+TEST(Breakage, BelowTheResolvedSizeSelectionFollowsItsOwnSizeExponent) {
+  // Above x_res the measured law s_c (x / x_ref)^-q; below it s_c(x_res) (x / x_res)^-q_below (ISRM point-load
+  // size effect, 0.45), continuous at x_res. x_resolved = 0 keeps one law for every size.
+  chamber::BreakageParams bp;
+  bp.s_c = 1.3;
+  bp.m = 6.6;
+  bp.q = 1.07;
+  bp.x_ref = 10e-3;
+  bp.x_resolved = 22.4e-3;
+  const double sc_res = 1.3 * std::pow(2.24, -1.07);
+  EXPECT_NEAR(chamber::critical_compression(bp, 22.4e-3), sc_res, 1e-14);
+  EXPECT_NEAR(chamber::critical_compression(bp, 22.4e-3 * (1 - 1e-12)), sc_res, 1e-10);  // continuous
+  EXPECT_NEAR(chamber::critical_compression(bp, 40e-3), 1.3 * std::pow(4.0, -1.07), 1e-14);
+  EXPECT_NEAR(chamber::critical_compression(bp, 5e-3), sc_res * std::pow(5 / 22.4, -0.45), 1e-14);
+  chamber::BreakageParams one = bp;
+  one.x_resolved = 0;
+  EXPECT_NEAR(chamber::critical_compression(one, 5e-3), 1.3 * std::pow(0.5, -1.07), 1e-14);
+  // In the matrices: class 2-4 mm (x = sqrt 8 mm) below, 31.5-63 mm above.
+  const std::vector<double> sieves{1e-3, 2e-3, 4e-3, 8e-3, 16e-3, 31.5e-3, 63e-3};
+  chamber::Breakage br(sieves, bp), br_one(sieves, one);
+  const double x2 = std::sqrt(8e-6), sc2 = sc_res * std::pow(x2 / 22.4e-3, -0.45);
+  EXPECT_NEAR(br.selection(2, 0.5), 1 - std::exp(-std::pow(0.5 / sc2, 6.6)), 1e-14);
+  EXPECT_GT(br.selection(2, 0.5), 100 * br_one.selection(2, 0.5));  // the fines break far sooner
+  EXPECT_EQ(br.selection(6, 0.3), br_one.selection(6, 0.3));
+  bp.q_below = -0.1;
+  EXPECT_THROW(chamber::Breakage(sieves, bp), std::invalid_argument);
+}
+
 TEST(FlowModel, RejectsBadParametersByName) {
   auto p = params(4, 8);
   p.material.rebound = 0;

@@ -97,6 +97,8 @@ TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
   EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
   EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
   EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
+  EXPECT_EQ(m.material.breakage.x_resolved, 0.001);  // below it the documented size law (q_below), not a fit
+  EXPECT_EQ(m.material.breakage.q_below, BreakageParams().q_below);
 }
 
 TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
