@@ -24,6 +24,7 @@ namespace {
 struct Args {
   std::string out, bpm, lab, command;
   bool quick = false;
+  double speed = 0;  // m/s, 0: the default
   int threads = 1;
   unsigned long long seed = 1;
   double dt_safety = 0.0;  // 0: the library's default
@@ -34,7 +35,7 @@ struct Args {
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns "
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
 [[noreturn]] void usage(const std::string& why) {
@@ -53,6 +54,13 @@ Args parse(int argc, char** argv) {
       else if (s == "--bpm") a.bpm = args.value();
       else if (s == "--lab") a.lab = args.value();
       else if (s == "--quick") a.quick = true;
+      else if (s == "--speed-m-s") {
+        const std::string v = args.value();
+        char* end = nullptr;
+        a.speed = std::strtod(v.c_str(), &end);
+        if (*end || v.empty() || !(a.speed >= 0.01 && a.speed <= 20))
+          usage("--speed-m-s is the piston's speed in m/s, a number in [0.01, 20], got '" + v + "'");
+      }
       else if (s == "--ratios") {
         std::stringstream list(args.value());
         for (std::string item; std::getline(list, item, ',');) {
@@ -77,7 +85,7 @@ Args parse(int argc, char** argv) {
         std::exit(0);
       } else {
         usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
-              "--die-mm, --ratios, --lab)");
+              "--die-mm, --ratios, --speed-m-s, --lab)");
       }
     }
   } catch (const std::invalid_argument& e) {
@@ -144,6 +152,7 @@ int run_dem(const Args& a) {
     o.rock_count = 18;
     o.piston_speed = 0.4;
   }
+  if (a.speed > 0) o.piston_speed = a.speed;
   if (a.rocks > 0) o.rock_count = a.rocks;
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
