@@ -57,6 +57,7 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   mass_.assign(n * classes(), 0.0);
   speed_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
+  impulse_.assign(n, 0.0);
   gap_.assign(n, 0.0);
   closing_.assign(n, 0);
   count_.assign(n, 0.0);
@@ -228,6 +229,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     pressure_[k] = p;
     book_work(p);
     if (p <= 0) continue;
+    impulse_[k] += p * cells_.area[b] * h;
     const double inv = 1.0 / std::max(rho, 1e-12);
     const Eigen::Vector3d n =
         mantle.linear() * Eigen::Vector3d(nzr.y() * xm.x() * inv, nzr.y() * xm.y() * inv, nzr.x());
@@ -290,6 +292,7 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put_vec(out_);
   w.put_vec(gap_);
   w.put_vec(pressure_);
+  w.put_vec(impulse_);
   w.put(fed_);
   w.put(energy_);
   w.put(extrusion_);
@@ -310,13 +313,14 @@ void FlowModel::load_state(core::BinaryReader& r) {
   r.get_vec(count);
   r.get_vec(mem);
   r.get_vec(out);
-  std::vector<double> gap, pressure;
+  std::vector<double> gap, pressure, impulse;
   r.get_vec(gap);
   r.get_vec(pressure);
+  r.get_vec(impulse);
   if (mass.size() != n * classes() || speed.size() != n || count.size() != n || mem.size() != 5 * n ||
-      out.size() != classes() || gap.size() != n || pressure.size() != n)
+      out.size() != classes() || gap.size() != n || pressure.size() != n || impulse.size() != n)
     r.fail("flow model state is corrupt");
-  mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap, pressure_ = pressure;
+  mass_ = mass, speed_ = speed, count_ = count, out_ = out, gap_ = gap, pressure_ = pressure, impulse_ = impulse;
   for (std::size_t k = 0; k < n; ++k) {
     const double* q = &mem[5 * k];
     memory_[k] = {q[0], q[1]};

@@ -85,6 +85,8 @@ class FlowModel {
   double loose_density() const { return rho0_; }
   double cell_area(std::size_t k) const { return cells_.area[k / p_.sectors]; }  // m^2 of concave
   Eigen::Vector3d cell_point(std::size_t k) const;  // on the concave, concave liner frame (band 0 = bottom)
+  double band_bottom(int b) const { return cells_.z_lo + b * cells_.dz; }  // z (m, liner frame) where band b starts
+  double band_height() const { return cells_.dz; }                         // m; sector s spans [s, s + 1] 2 pi / sectors
 
   // Presses, breaks, moves and feeds the rock at the liners' pose (liner frame -> world) over h seconds.
   FlowLoads step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave, const Eigen::Vector3d& com_mantle,
@@ -97,6 +99,9 @@ class FlowModel {
   double cell_pressure(std::size_t k) const { return pressure_[k]; }  // Pa at the last step
   double cell_gap(std::size_t k) const { return gap_[k]; }            // m at the last step
   double cell_compressions(std::size_t k) const { return count_[k]; }  // mean events of its rock
+  // Time integral of each cell's normal force p A on the liners since the start (N s): its change over a window over
+  // the window's length is the window's mean force (the concave force map, force_map.hpp).
+  const std::vector<double>& normal_impulse() const { return impulse_; }
   double mass_kg() const;                                              // in the chamber
   double fed_kg() const { return fed_; }
   double discharged_kg() const;
@@ -122,6 +127,7 @@ class FlowModel {
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
+  std::vector<double> impulse_;                                // per cell, N s
   std::vector<mbd::BedCell> memory_;     // the hysteretic law's (compaction_memory false)
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)

@@ -1,5 +1,6 @@
 #include "nodes/mbd_node_flow.hpp"
 
+#include <inertia_crusher/ConcaveForceMap.h>
 #include <inertia_crusher/ProductStream.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -47,9 +48,11 @@ FlowOutputs::FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, dou
     : mantle_tris_(triangle_list(p.chamber.mantle, dem::NormalSide::Outward)),
       concave_tris_(triangle_list(p.chamber.concave, dem::NormalSide::Inward)),
       window_s_(window_s) {
+  concave_ = p.chamber.concave;
   pub_product_ = nh.advertise<inertia_crusher::ProductStream>("/crusher/product", 100);
   pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
   pub_cells_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/chamber", 2, true);
+  pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
 }
 
 analysis::ProductSummary flow_product(const chamber::FlowModel& f, const std::vector<double>& by_class, double tph) {
@@ -111,6 +114,24 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   cells.markers.push_back(c);
   pub_cells_.publish(cells);
   bag.write("/crusher/chamber", stamp, cells);
+
+  // The mean normal force on each concave area since the last map: the cells' impulse gained over the time passed.
+  if (!map_) map_ = std::make_unique<chamber::ConcaveForceMap>(f, concave_);
+  const auto& J = f.normal_impulse();
+  if (!last_impulse_.empty() && t > last_map_t_) {
+    std::vector<double> mean(J.size());
+    for (std::size_t k = 0; k < J.size(); ++k) mean[k] = (J[k] - last_impulse_[k]) / (t - last_map_t_);
+    inertia_crusher::ConcaveForceMap fm;
+    fm.header = p.header;
+    fm.rings = map_->rings();
+    fm.sectors = map_->sectors();
+    fm.window_s = t - last_map_t_;
+    fm.mean_normal_force = map_->map(mean);
+    pub_map_.publish(fm);
+    bag.write("/crusher/concave_forces", stamp, fm);
+  }
+  last_impulse_ = J;
+  last_map_t_ = t;
 }
 
 }  // namespace nodes

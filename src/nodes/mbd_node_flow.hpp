@@ -1,13 +1,16 @@
 #pragma once
 // mbd_node's outputs in a flow run (run.load flow): the screened product of the chamber flow model on
-// /crusher/product, the liners on /crusher/liners and the chamber's cells (coloured by pressure) on /crusher/chamber.
+// /crusher/product, the liners on /crusher/liners, the chamber's cells (coloured by pressure) on /crusher/chamber and
+// the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces.
 #include <ros/ros.h>
 
 #include <deque>
+#include <memory>
 #include <utility>
 
 #include "analysis/run_metrics.hpp"
 #include "chamber/flow_model.hpp"
+#include "chamber/force_map.hpp"
 #include "mbd/mechanism.hpp"
 #include "nodes/ros_common.hpp"
 
@@ -16,11 +19,16 @@ namespace nodes {
 class FlowOutputs {
  public:
   FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, double throughput_window_s = 1.0);
-  // Publishes and records the product (throughput over the last window), the liners at their pose and the cells.
+  // Publishes and records the product (throughput over the last window), the liners at their pose, the cells and the
+  // concave force map.
   void publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f, BagRecorder& bag);
 
  private:
-  ros::Publisher pub_product_, pub_liners_, pub_cells_;
+  ros::Publisher pub_product_, pub_liners_, pub_cells_, pub_map_;
+  core::Profile concave_;
+  std::unique_ptr<chamber::ConcaveForceMap> map_;  // made at the first publish (it needs the model's cells)
+  std::vector<double> last_impulse_;                // the cells' normal impulse at the last map
+  double last_map_t_ = 0;
   std::vector<Eigen::Vector3d> mantle_tris_, concave_tris_;  // triangle-list vertices in each liner frame
   double window_s_;
   std::deque<std::pair<double, double>> discharged_;  // (t, kg) history for the throughput window

@@ -44,20 +44,10 @@ def main(path):
     for name, v, key in rows:
         paper = f"{ref[key][0]} / {ref[key][1]}" if (ref and key) else ""
         print(f"{name:<28}{fmt(v):>12}   {paper}")
-    if psd:
-        sieves, passing = psd["sieve_mm"], psd["passing_pct"]
-
-        def at(mm):
-            for a, p in zip(sieves, passing):
-                if abs(a - mm) < 1e-9:
-                    return p
-            return None
-
-        p80 = next((a for a, p in zip(sieves, passing) if p >= 80), None)
-        print(f"{'P80 (mm)':<28}{fmt(p80):>12}")
-        print(f"{'passing 12 mm (%)':<28}{fmt(at(12)):>12}   index: > 80")
-        print(f"{'passing 1 mm (%)':<28}{fmt(at(1)):>12}   index: < 3")
-
+    if psd:  # summary.json's own figures (run_metrics: P80 interpolated between sieves), not recomputed here
+        print(f"{'P80 (mm)':<28}{fmt(s.get('p80_mm')):>12}")
+        print(f"{'passing 12 mm (%)':<28}{fmt(s.get('passing_12mm_pct')):>12}   index: > 80")
+        print(f"{'passing 1 mm (%)':<28}{fmt(s.get('passing_1mm_pct')):>12}   index: < 3")
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:

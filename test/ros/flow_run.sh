@@ -12,8 +12,8 @@ PY
 CRUSHER_NO_BUILD=1 bash "$src/scripts/crusher" run "$out/case.yaml" --out "$out/run" >"$out/run.log" 2>&1 ||
   { tail -n 30 "$out/run.log"; echo "FAIL: crusher run failed"; exit 1; }
 cat "$out/run.log" | tail -n 25
-/usr/bin/python3 - "$out/run" <<'PY'
-import json, sys
+/usr/bin/python3 - "$out/run" "$out/run.log" <<'PY'
+import json, os, re, sys
 import rosbag
 run = sys.argv[1]
 s = json.load(open(run + "/summary.json"))
@@ -27,7 +27,8 @@ p = s["psd"]["passing_pct"]
 assert all(b >= a for a, b in zip(p, p[1:])) and abs(p[-1] - 100) < 1e-9, p
 with rosbag.Bag(run + "/run.bag") as bag:
     topics = bag.get_type_and_topic_info().topics
-    for t in ("/crusher/product", "/crusher/liners", "/crusher/chamber", "/crusher/test_point", "/tf"):
+    for t in ("/crusher/product", "/crusher/liners", "/crusher/chamber", "/crusher/test_point", "/tf",
+              "/crusher/concave_forces"):
         assert t in topics, (t, sorted(topics))
     assert topics["/crusher/product"].message_count == topics["/tf"].message_count
     last = None
@@ -39,6 +40,17 @@ with rosbag.Bag(run + "/run.bag") as bag:
     for _, m, _ in bag.read_messages(topics=["/crusher/liners"]):
         assert [k.ns for k in m.markers] == ["mantle", "concave"] and len(m.markers[0].points) % 3 == 0
         break
+    n = 0
+    for _, m, _ in bag.read_messages(topics=["/crusher/concave_forces"]):
+        assert (m.rings, m.sectors, len(m.mean_normal_force)) == (13, 9, 117), (m.rings, m.sectors)
+        assert m.window_s > 0 and min(m.mean_normal_force) >= 0, (m.window_s, min(m.mean_normal_force))
+        n += sum(m.mean_normal_force) > 0
+    assert n > 10, "the force map never carried a force"
+# The printed table shows summary.json's own P80 (not one recomputed from the sieves); every plot is written.
+printed = re.search(r"P80 \(mm\)\s+(\S+)", open(sys.argv[2]).read()).group(1)
+assert printed == "%.2f" % s["p80_mm"], (printed, s["p80_mm"])
+for png in ("displacement", "power", "psd", "concave_forces", "force_history"):
+    assert os.path.getsize(os.path.join(run, png + ".png")) > 1000, png
 print("flow run: %.2f mm, %.1f kW, %.1f t/h, %.2f kWh/t, P80 %.1f mm; product stream balanced" % (
     s["amplitude_x_mm"]["mean"], s["power_kW"]["mean"], s["throughput_tph"], s["specific_energy_kWh_per_t"],
     s["p80_mm"]))
