@@ -402,6 +402,8 @@ Eigen::Isometry3d Mechanism::liner_pose(BodyId id) const {
   return T;
 }
 
+Eigen::Vector3d Mechanism::test_point_offset() const { return impl_->tp_local; }
+
 TestPointState Mechanism::test_point() const {
   TestPointState s;
   const Eigen::Matrix3d R1 = impl_->rot(0);

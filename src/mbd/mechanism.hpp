@@ -97,6 +97,7 @@ class Mechanism {
   // Liner meshes built from the (z, r) profiles are placed with this transform.
   Eigen::Isometry3d liner_pose(BodyId id) const;
   TestPointState test_point() const;
+  Eigen::Vector3d test_point_offset() const;  // m, the test point in the fixed cone's body frame (from its origin)
   DriveState drive() const;
   double nutation_angle() const;  // rad, angle between the floating-cone axis and the fixed-cone axis
   double mantle_spin() const;     // rad/s, floating cone about its own axis relative to the fixed cone

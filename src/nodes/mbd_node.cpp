@@ -334,6 +334,13 @@ class MbdNode {
         ts.transform.rotation = nodes::to_pose(b.position, b.orientation).orientation;
         tf.transforms.push_back(ts);
       }
+      geometry_msgs::TransformStamped tp_frame;  // the test point, fixed on the frame (TestPoint.msg)
+      tp_frame.header.stamp = stamp;
+      tp_frame.header.frame_id = mbd::body_name(mbd::BodyId::FixedCone);
+      tp_frame.child_frame_id = "test_point";
+      tp_frame.transform.translation = to_msg(mech_->test_point_offset());
+      tp_frame.transform.rotation.w = 1;
+      tf.transforms.push_back(tp_frame);
       pub_tf_.publish(tf);
       bag_.write("/tf", stamp, tf);
       if (flow_) flow_out_->publish(stamp, *mech_, flow_->model(), bag_);

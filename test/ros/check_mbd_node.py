@@ -15,6 +15,17 @@ from rosgraph_msgs.msg import Clock
 from tf2_msgs.msg import TFMessage
 
 
+def tf_point(T, p):
+    """World coordinates of point p given in the frame of transform T (rotation by the unit quaternion, then shift)."""
+    q, t = T.rotation, T.translation
+    u = (q.x, q.y, q.z)
+    v = (p.x, p.y, p.z)
+    c1 = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    c2 = (u[1] * c1[2] - u[2] * c1[1], u[2] * c1[0] - u[0] * c1[2], u[0] * c1[1] - u[1] * c1[0])
+    r = [v[i] + 2 * (q.w * c1[i] + c2[i]) for i in range(3)]
+    return {"x": r[0] + t.x, "y": r[1] + t.y, "z": r[2] + t.z}
+
+
 class MbdNodeTest(unittest.TestCase):
     def setUp(self):
         rospy.init_node("check_mbd_node")
@@ -54,7 +65,7 @@ class MbdNodeTest(unittest.TestCase):
         self.assertAlmostEqual(tf_rate, self.tf_hz, delta=0.05 * self.tf_hz)
         frames = self.got["tf"][0][1]
         self.assertEqual(frames, sorted(["fixed_cone", "floating_cone", "vibrator", "globe_bearing",
-                                         "connecting_shaft", "drive_shaft"]))
+                                         "connecting_shaft", "drive_shaft", "test_point"]))
         # Bag: every sample the node produced, from t = 0 to the end, evenly spaced.
         expected = int(round(self.duration * self.publish_hz))  # t = k / publish_hz, k = 1..N
         with rosbag.Bag(os.path.join(self.out, "run.bag")) as bag:
@@ -67,6 +78,22 @@ class MbdNodeTest(unittest.TestCase):
             self.assertAlmostEqual(max(gaps), 1.0 / self.publish_hz, delta=0.51 / self.publish_hz * 0.5)
             self.assertAlmostEqual(min(gaps), 1.0 / self.publish_hz, delta=0.51 / self.publish_hz * 0.5)
             self.assertAlmostEqual(stamps[-1], self.duration, delta=1.0 / self.publish_hz)
+            # The test_point frame (fixed_cone -> test_point) moves in world as TestPoint's displacement does.
+            disp = {round(m.header.stamp.to_sec(), 6): m.displacement
+                    for _, m, _ in bag.read_messages(topics=["/crusher/test_point"])}
+            world = {}
+            for _, m, _ in bag.read_messages(topics=["/tf"]):
+                T = {t.child_frame_id: t for t in m.transforms}
+                self.assertEqual(T["test_point"].header.frame_id, "fixed_cone")
+                world[round(m.transforms[0].header.stamp.to_sec(), 6)] = tf_point(T["fixed_cone"].transform,
+                                                                                  T["test_point"].transform.translation)
+            common = sorted(set(disp) & set(world))
+            self.assertGreater(len(common), 10)
+            t0 = common[0]
+            for t in common[1:]:
+                for axis in "xyz":
+                    moved = world[t][axis] - world[t0][axis]
+                    self.assertAlmostEqual(moved, getattr(disp[t], axis) - getattr(disp[t0], axis), delta=1e-7)
         s = json.load(open(summary))
         self.assertAlmostEqual(s["simulated_s"], self.duration, delta=1.0 / self.publish_hz)
         self.assertGreater(s["amplitude_x_mm"]["mean"], 0.5)
