@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Plots of one run from its bag: test-point displacement x/y/z and drive power vs time with the plant's Table 5
 values, the product size distribution with its P80 and the product index, the concave force map and the force on
-the areas P31..P111 over the last second (the paper's Figure 21). Titles name the config and the drive speed."""
+the areas P31..P111 over the last second (the paper's Figure 21), a mantle point's path (Figure 19) and the tracked
+particles' paths of a coupled run (Figure 20, plot_paths.py). Titles name the config and the drive speed."""
 import argparse
 import json
 import os
@@ -11,6 +12,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import rosbag  # noqa: E402
+from plot_paths import mantle_path, particle_paths  # noqa: E402
 from print_summary import PAPER  # noqa: E402  Table 5
 
 FIG21_RINGS = (3, 5, 7, 9, 11)  # areas P31, P51, P71, P91, P111 (section 4.2.3)
@@ -37,9 +39,10 @@ def main():
     t, d, tp, p = [], [], [], []
     psd, fmap = None, None
     maps, map_t = [], []
+    liners = []
     for path in a.bag:
         with rosbag.Bag(path) as bag:
-            for topic, m, _ in bag.read_messages(topics=["/crusher/test_point", "/crusher/drive",
+            for topic, m, _ in bag.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/liners",
                                                          "/crusher/product", "/crusher/concave_forces"]):
                 if topic == "/crusher/test_point":
                     t.append(m.header.stamp.to_sec())
@@ -47,6 +50,12 @@ def main():
                 elif topic == "/crusher/drive":
                     tp.append(m.header.stamp.to_sec())
                     p.append(m.power * 1e-3)
+                elif topic == "/crusher/liners":
+                    mk = next((k for k in m.markers if k.ns == "mantle"), None)
+                    if mk:
+                        o, q = mk.pose.position, mk.pose.orientation
+                        pts = [(v.x, v.y, v.z) for v in mk.points] if not liners else None
+                        liners.append((mk.header.stamp.to_sec(), ((o.x, o.y, o.z), (q.x, q.y, q.z, q.w)), pts))
                 elif topic == "/crusher/product":
                     psd = (list(m.sieve_mm), list(m.passing_pct))
                 else:
@@ -126,6 +135,8 @@ def main():
         ax.legend(fontsize=8, ncol=5)
         fig.tight_layout()
         fig.savefig(os.path.join(a.out, "force_history.png"), dpi=110)
+    mantle_path(liners, a.out, label)
+    particle_paths(os.path.join(a.out, "trajectories.csv"), a.out, label)
 
 
 if __name__ == "__main__":

@@ -34,6 +34,13 @@ cp "$out/run/run.bag" "$out/run/mbd.bag"
 rosrun inertia_crusher merge_bags "$out/run/run.bag" "$out/run/dem.bag" ||
   { echo "FAIL: merge_bags failed"; exit 1; }
 /usr/bin/python3 "$src/test/ros/check_coupled_run.py" "$out/run"
+# The run's plots as `crusher run` makes them, from the merged bag: the particle paths of trajectories.csv (Figure 20),
+# the force map and its history (Figure 21).
+/usr/bin/python3 "$src/src/tools/plot_run.py" --bag "$out/run/run.bag" --summary "$out/run/summary.json" \
+  --out "$out/run" || { echo "FAIL: plot_run.py failed on the coupled run"; exit 1; }
+for png in displacement power concave_forces force_history particle_paths mantle_path; do
+  [[ -s $out/run/$png.png ]] || { echo "FAIL: plot_run.py wrote no $png.png for the coupled run"; exit 1; }
+done
 # scripts/run_windows.py reads the same bag its own way: its last window (the 2 drive cycles after the 0.3 s
 # settle) must give summary.json's amplitude and power, and over both windows (the whole 0.6 s) the power into the
 # rock must be what mbd_node's energy audit booked as its load (from the wrenches it applied, step by step).

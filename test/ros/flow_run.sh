@@ -49,7 +49,7 @@ with rosbag.Bag(run + "/run.bag") as bag:
 # The printed table shows summary.json's own P80 (not one recomputed from the sieves); every plot is written.
 printed = re.search(r"P80 \(mm\)\s+(\S+)", open(sys.argv[2]).read()).group(1)
 assert printed == "%.2f" % s["p80_mm"], (printed, s["p80_mm"])
-for png in ("displacement", "power", "psd", "concave_forces", "force_history"):
+for png in ("displacement", "power", "psd", "concave_forces", "force_history", "mantle_path"):
     assert os.path.getsize(os.path.join(run, png + ".png")) > 1000, png
 print("flow run: %.2f mm, %.1f kW, %.1f t/h, %.2f kWh/t, P80 %.1f mm; product stream balanced" % (
     s["amplitude_x_mm"]["mean"], s["power_kW"]["mean"], s["throughput_tph"], s["specific_energy_kWh_per_t"],
