@@ -11,7 +11,7 @@ double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0
 }  // namespace
 
 ConcaveForceMap::ConcaveForceMap(const FlowModel& f, const core::Profile& concave, int rings, int sectors)
-    : rings_(rings), sectors_(sectors) {
+    : rings_(rings), sectors_(sectors), concave_(concave) {
   if (rings < 1 || sectors < 1 || concave.z.size() < 2)
     throw std::invalid_argument("ConcaveForceMap: needs rings >= 1, sectors >= 1 and a concave profile");
   constexpr double kTwoPi = 6.28318530717958647692;
@@ -39,6 +39,14 @@ std::vector<double> ConcaveForceMap::map(const std::vector<double>& per_cell) co
   for (std::size_t k = 0; k < share_.size(); ++k)
     for (const auto& [area, w] : share_[k]) out[area] += w * per_cell[k];
   return out;
+}
+
+Eigen::Vector3d ConcaveForceMap::area_centre(int a) const {
+  if (a < 0 || a >= rings_ * sectors_) throw std::invalid_argument("ConcaveForceMap::area_centre: no such area");
+  const auto [zmin, zmax] = std::minmax_element(concave_.z.begin(), concave_.z.end());
+  const double z = *zmax - (a / sectors_ + 0.5) * (*zmax - *zmin) / rings_;
+  const double phi = (a % sectors_ + 0.5) * 6.28318530717958647692 / sectors_, r = concave_.radius_at(z);
+  return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
 }  // namespace chamber

@@ -20,9 +20,12 @@ class ConcaveForceMap {
   int sectors() const { return sectors_; }
   // per_cell: a value per flow cell (N); returns their sums per area, row-major (ring - 1) * sectors + sector - 1.
   std::vector<double> map(const std::vector<double>& per_cell) const;
+  // The middle of area a on the concave (concave liner frame, m): mid-height of its ring, mid-azimuth of its sector.
+  Eigen::Vector3d area_centre(int a) const;
 
  private:
   int rings_, sectors_;
+  core::Profile concave_;
   std::vector<std::vector<std::pair<int, double>>> share_;  // per cell: (area, share of the cell)
 };
 

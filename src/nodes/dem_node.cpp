@@ -32,6 +32,7 @@
 #include "mbd/mechanism_params.hpp"
 #include "nodes/dem_node_cloud.hpp"
 #include "nodes/ros_common.hpp"
+#include "nodes/ros_common_force_map.hpp"
 
 namespace {
 
@@ -95,6 +96,8 @@ class DemNode {
  public:
   DemNode(ros::NodeHandle& nh, Config cfg, std::string out, bool resume)
       : cfg_(std::move(cfg)), out_(std::move(out)) {
+    ros::NodeHandle pnh("~");
+    force_scale_N_ = nodes::force_scale_N(pnh);
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
@@ -367,7 +370,7 @@ class DemNode {
     return arr;
   }
 
-  // One sphere per concave area P_{ring,sector} at its centre, coloured blue (low) to red (high force).
+  // One sphere per concave area P_{ring,sector} at its centre, on the fixed scale ~force_scale_kN, with its legend.
   visualization_msgs::MarkerArray force_map_markers(const ros::Time& stamp, const std::vector<double>& force) {
     const auto& mesh = dem_->concave().mesh();
     const auto* regions = dem_->concave().regions();
@@ -379,28 +382,11 @@ class DemNode {
       centre[r] += mesh.to_world(mesh.centroid(static_cast<int>(t)));
       ++count[r];
     }
-    double fmax = 1e-9;
-    for (double f : force) fmax = std::max(fmax, f);
-    visualization_msgs::Marker m;
-    m.header.stamp = stamp;
-    m.header.frame_id = "world";
-    m.ns = "concave_force_map";
-    m.type = visualization_msgs::Marker::SPHERE_LIST;
-    m.pose.orientation.w = 1;
-    m.scale.x = m.scale.y = m.scale.z = 0.04;
-    for (std::size_t r = 0; r < force.size(); ++r) {
-      if (!count[r]) continue;
-      std_msgs::ColorRGBA col;
-      col.r = force[r] / fmax;
-      col.b = 1.0 - col.r;
-      col.g = 0.2;
-      col.a = 1.0;
-      m.points.push_back(nodes::to_point(centre[r] / count[r]));
-      m.colors.push_back(col);
-    }
-    visualization_msgs::MarkerArray arr;
-    arr.markers.push_back(m);
-    return arr;
+    std::vector<Eigen::Vector3d> at;
+    std::vector<double> f;
+    for (std::size_t r = 0; r < force.size(); ++r)
+      if (count[r]) at.push_back(centre[r] / count[r]), f.push_back(force[r]);
+    return nodes::force_map_markers(stamp, at, f, force_scale_N_);
   }
 
   visualization_msgs::MarkerArray liner_markers(const ros::Time& stamp) {
@@ -492,6 +478,7 @@ class DemNode {
   bool finished_ = false;
   bool requested_ = false;  // a geometry state has arrived (until then the first-answer timeout applies)
   bool warned_squeeze_ = false;
+  double force_scale_N_ = 20e3;  // the force map's red (~force_scale_kN)
   double start_sim_ = 0;
   double last_heard_ = 0, next_output_ = 0, wait_s_ = 0, busy_s_ = 0, start_wall_ = 0, next_progress_ = 0;
 };

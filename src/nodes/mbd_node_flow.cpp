@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "dem/revolution.hpp"
+#include "nodes/ros_common_force_map.hpp"
 
 namespace nodes {
 namespace {
@@ -49,10 +50,13 @@ FlowOutputs::FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, dou
       concave_tris_(triangle_list(p.chamber.concave, dem::NormalSide::Inward)),
       window_s_(window_s) {
   concave_ = p.chamber.concave;
+  ros::NodeHandle pnh("~");
+  force_scale_N_ = force_scale_N(pnh);
   pub_product_ = nh.advertise<inertia_crusher::ProductStream>("/crusher/product", 100);
   pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
   pub_cells_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/chamber", 2, true);
   pub_map_ = nh.advertise<inertia_crusher::ConcaveForceMap>("/crusher/concave_forces", 100, true);
+  pub_map_markers_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/concave_force_markers", 2, true);
 }
 
 analysis::ProductSummary flow_product(const chamber::FlowModel& f, const std::vector<double>& by_class, double tph) {
@@ -129,6 +133,12 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
     fm.mean_normal_force = map_->map(mean);
     pub_map_.publish(fm);
     bag.write("/crusher/concave_forces", stamp, fm);
+    const Eigen::Isometry3d T = m.liner_pose(mbd::BodyId::FixedCone);
+    std::vector<Eigen::Vector3d> at;
+    for (int a = 0; a < map_->rings() * map_->sectors(); ++a) at.push_back(T * map_->area_centre(a));
+    const auto markers = force_map_markers(stamp, at, fm.mean_normal_force, force_scale_N_);
+    pub_map_markers_.publish(markers);
+    bag.write("/crusher/concave_force_markers", stamp, markers);
   }
   last_impulse_ = J;
   last_map_t_ = t;

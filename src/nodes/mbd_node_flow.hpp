@@ -24,7 +24,8 @@ class FlowOutputs {
   void publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f, BagRecorder& bag);
 
  private:
-  ros::Publisher pub_product_, pub_liners_, pub_cells_, pub_map_;
+  ros::Publisher pub_product_, pub_liners_, pub_cells_, pub_map_, pub_map_markers_;
+  double force_scale_N_;
   core::Profile concave_;
   std::unique_ptr<chamber::ConcaveForceMap> map_;  // made at the first publish (it needs the model's cells)
   std::vector<double> last_impulse_;                // the cells' normal impulse at the last map

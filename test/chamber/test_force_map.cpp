@@ -3,6 +3,7 @@
 // mean force.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numeric>
 
 #include "../common/coaxial_liners.hpp"
@@ -66,6 +67,12 @@ TEST(ConcaveForceMap, CellsAcrossAreasSplitByOverlapAndTheTotalIsKept) {
   std::vector<double> v(f.cells());
   for (std::size_t k = 0; k < v.size(); ++k) v[k] = std::sin(0.37 * k) + 1.5;
   EXPECT_NEAR(sum(map.map(v)), sum(v), 1e-9 * sum(v));
+  // Area P_{2,3} (index 1 x 9 + 2): ring 2's mid-height, sector 3's mid-azimuth (100 deg), on the concave.
+  const Eigen::Vector3d c = map.area_centre(11);
+  EXPECT_NEAR(c.z(), -0.2 - 1.5 * 0.6 / 13, 1e-12);
+  EXPECT_NEAR(std::atan2(c.y(), c.x()), 100.0 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(std::hypot(c.x(), c.y()), 0.35, 1e-12);
+  EXPECT_THROW(map.area_centre(117), std::invalid_argument);
   EXPECT_THROW(chamber::ConcaveForceMap(f, kConcave, 0, 9), std::invalid_argument);
   EXPECT_THROW(map.map(std::vector<double>(3, 0.0)), std::invalid_argument);
 }

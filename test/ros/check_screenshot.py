@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """What a user sees in rviz: the liners (the mantle's lit orange-brown, the translucent blue-grey concave) and,
-within the chamber they outline, the particles (fragment colours, saturation 0.75). A view with liners but
+within the chamber they outline, the particles (fragment colours, saturation 0.75), and right of it the force map's
+legend (a colour bar on its fixed kN scale, saturation 1). A view with liners but
 no particles, particles away from the liners, or nothing at all fails.
 Usage: check_screenshot.py DISPLAY OUT.png    (grabs the X display, saves it, checks it)
        check_screenshot.py --image IN.png     (checks a saved picture)"""
@@ -67,7 +68,28 @@ def check(img):
         errors.append("the particles are not centred on the chamber")
     if bands < 3:
         errors.append(f"particles in {bands} hue bands (fragments show >= 3)")
+    errors += check_legend(hsv, x1 + mx)
     return errors
+
+
+def check_legend(hsv, right_of):
+    """The force map's legend right of the chamber: a colour bar of saturation 1, red (the scale) above magenta above
+    blue (0 kN), one over the other."""
+    h, s, val = hsv[..., 0], hsv[..., 1], hsv[..., 2]
+    bar = (s > 0.9) & (val > 0.25)
+    bar[:, :int(right_of)] = False
+    red = bar & ((h < 0.04) | (h > 0.96))
+    mid = bar & (h > 0.78) & (h < 0.89)
+    blue = bar & (h > 0.62) & (h < 0.72)
+    n = [int(m.sum()) for m in (red, mid, blue)]
+    print(f"legend right of x {right_of:.0f} px: red {n[0]}, magenta {n[1]}, blue {n[2]} px")
+    if min(n) < 30:
+        return ["no force-map legend (a red-to-blue colour bar) right of the chamber"]
+    rows = [np.nonzero(m)[0].mean() for m in (red, mid, blue)]
+    cols = [np.nonzero(m)[1].mean() for m in (red, mid, blue)]
+    if not (rows[0] < rows[1] < rows[2]) or max(cols) - min(cols) > 30:
+        return [f"the legend's colours are not one bar, red over blue (rows {rows}, columns {cols})"]
+    return []
 
 
 def main(argv):

@@ -89,5 +89,5 @@ rosbag play -q -l -u 0.2 "$out/run/run.bag" --topics /crusher/particles /crusher
   >"$out/play.log" 2>&1 &
 pids+=($!)
 sleep 10
-/usr/bin/python3 "$src/test/ros/check_screenshot.py" "$DISPLAY" "$out/screenshot.png"
+/usr/bin/python3 "$src/test/ros/check_screenshot.py" "$DISPLAY" "$out/screenshot.png" || { [[ -n ${CRUSHER_KEEP_SCREENSHOT:-} ]] && cp "$out/screenshot.png" "$CRUSHER_KEEP_SCREENSHOT"; exit 1; }
 if [[ -n ${CRUSHER_KEEP_SCREENSHOT:-} ]]; then cp "$out/screenshot.png" "$CRUSHER_KEEP_SCREENSHOT"; fi
