@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `crusher export` as a user runs it, checked against the bags by check_export.py:
 #  (a) a 2 s fast run (the shipped 400 rpm config): CSV rows equal the messages in plant units, one row per message;
-#      the ';' / decimal-comma export parses back to the same numbers; the missing force map is named as skipped;
+#      the ';' / decimal-comma export parses back to the same numbers; its force map is exported, and a topic missing
+#      from a bag (the test point alone copied out of it) is named as skipped;
 #  (b) a 0.2 s coupled run (the quick demo, small charge): ParaView files hold every particle of every
 #      /crusher/particle_state sample with its fields, the liners' triangles, and .pvd files listing them all;
 #      its CSV has the force map;
@@ -27,8 +28,17 @@ PY
 crusher run "$out/flow.yaml" --out "$out/flow" >"$out/flow.log" 2>&1 ||
   { tail -n 30 "$out/flow.log"; echo "FAIL: crusher run (flow) failed"; exit 1; }
 crusher export "$out/flow/run.bag" --csv "$out/csv" | tee "$out/export.log" || { echo "FAIL: export --csv failed"; exit 1; }
-grep -q "/crusher/concave_forces not in the bag: concave_forces.csv skipped" "$out/export.log" ||
-  { echo "FAIL: the missing force map is not named as skipped"; exit 1; }
+[[ -f $out/csv/concave_forces.csv ]] || { echo "FAIL: no concave_forces.csv from a fast run"; exit 1; }
+/usr/bin/python3 - "$out/flow/run.bag" "$out/partial.bag" <<'PY'
+import sys, rosbag
+with rosbag.Bag(sys.argv[1]) as a, rosbag.Bag(sys.argv[2], "w") as b:
+    for topic, m, t in a.read_messages(topics=["/crusher/test_point"]):
+        b.write(topic, m, t)
+PY
+crusher export "$out/partial.bag" --csv "$out/csv_partial" >"$out/export_partial.log" ||
+  { echo "FAIL: export of a bag with the test point only failed"; exit 1; }
+grep -q "/crusher/concave_forces not in the bag: concave_forces.csv skipped" "$out/export_partial.log" ||
+  { cat "$out/export_partial.log"; echo "FAIL: the missing force map is not named as skipped"; exit 1; }
 crusher export "$out/flow/run.bag" --csv "$out/csv_de" --delimiter ';' --decimal , >/dev/null ||
   { echo "FAIL: export --delimiter ';' --decimal , failed"; exit 1; }
 $check csv "$out/flow/run.bag" "$out/csv" "$out/csv_de"
