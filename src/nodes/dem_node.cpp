@@ -463,7 +463,9 @@ class DemNode {
 
   // Returns the break log's length at the checkpoint.
   std::streamoff resume_from_checkpoint() {
-    const uint64_t k = coupling::resume_step(out_);
+    std::vector<std::string> damaged;
+    const uint64_t k = coupling::resume_step(out_, &damaged);
+    for (const auto& d : damaged) ROS_WARN("%s: %s", "dem_node", d.c_str());
     std::streamoff breaks_size = 0;
     auto h = coupling::read_checkpoint(out_, "dem", k, [&](core::BinaryReader& r) {
       dem_->load_state(r);

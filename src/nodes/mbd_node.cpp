@@ -422,7 +422,9 @@ class MbdNode {
   }
 
   void resume_from_checkpoint() {
-    const uint64_t k = coupling::resume_step(out_);
+    std::vector<std::string> damaged;
+    const uint64_t k = coupling::resume_step(out_, &damaged);
+    for (const auto& d : damaged) ROS_WARN("%s: %s", "mbd_node", d.c_str());
     auto h = coupling::read_checkpoint(out_, "mbd", k, [&](core::BinaryReader& r) {
       mech_->load_state(r);
       r.expect("NODE");
