@@ -43,15 +43,35 @@ void for_each_cycle(const std::vector<double>& t, double speed, double t_from, F
   }
 }
 
-void json_mean_std(std::ostringstream& o, const char* name, const MeanStd& m) {
-  o << "  \"" << name << "\": {\"mean\": " << m.mean << ", \"std\": " << m.std << ", \"cycles\": " << m.samples
-    << "},\n";
+// JSON has no inf or nan: a non-finite number is written as null and its field named in `bad`.
+struct JsonOut {
+  std::ostringstream o;
+  std::vector<std::string>* bad;
+  void num(const std::string& field, double x) {
+    if (std::isfinite(x)) {
+      o << x;
+    } else {
+      o << "null";
+      if (bad && (bad->empty() || bad->back() != field)) bad->push_back(field);
+    }
+  }
+};
+
+void json_mean_std(JsonOut& j, const char* name, const MeanStd& m) {
+  j.o << "  \"" << name << "\": {\"mean\": ";
+  j.num(std::string(name) + ".mean", m.mean);
+  j.o << ", \"std\": ";
+  j.num(std::string(name) + ".std", m.std);
+  j.o << ", \"cycles\": " << m.samples << "},\n";
 }
 
-void json_array(std::ostringstream& o, const std::vector<double>& v) {
-  o << "[";
-  for (std::size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
-  o << "]";
+void json_array(JsonOut& j, const char* name, const std::vector<double>& v) {
+  j.o << "[";
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    j.o << (i ? ", " : "");
+    j.num(name, v[i]);
+  }
+  j.o << "]";
 }
 
 std::string escape(const std::string& s) {
@@ -120,47 +140,57 @@ double passing_at_mm(const std::vector<double>& x, const std::vector<double>& p,
   return p.back();
 }
 
-std::string to_json(const RunSummary& s) {
-  std::ostringstream o;
+std::string to_json(const RunSummary& s, std::vector<std::string>* non_finite) {
+  JsonOut j{{}, non_finite};
+  auto& o = j.o;
   o << std::setprecision(8);
   o << "{\n";
   o << "  \"config\": \"" << escape(s.config) << "\",\n";
   o << "  \"load\": \"" << escape(s.load) << "\",\n";
-  json_mean_std(o, "amplitude_x_mm", s.amplitude_x_mm);
-  json_mean_std(o, "amplitude_y_mm", s.amplitude_y_mm);
-  json_mean_std(o, "amplitude_z_mm", s.amplitude_z_mm);
-  json_mean_std(o, "power_kW", s.power_kW);
-  json_mean_std(o, "drive_speed_rad_s", s.speed_rad_s);
+  json_mean_std(j, "amplitude_x_mm", s.amplitude_x_mm);
+  json_mean_std(j, "amplitude_y_mm", s.amplitude_y_mm);
+  json_mean_std(j, "amplitude_z_mm", s.amplitude_z_mm);
+  json_mean_std(j, "power_kW", s.power_kW);
+  json_mean_std(j, "drive_speed_rad_s", s.speed_rad_s);
   if (s.product) {
     const auto& p = *s.product;
     double tph = p.throughput_tph;
-    o << "  \"throughput_tph\": " << tph << ",\n";
-    o << "  \"specific_energy_kWh_per_t\": ";
-    if (tph > 0) o << s.power_kW.mean / tph; else o << "null";
-    o << ",\n  \"mass_discharged_kg\": " << p.mass_discharged_kg << ",\n";
-    o << "  \"mass_lost_kg\": " << p.mass_lost_kg << ",\n";
-    o << "  \"mass_crushed_kg\": " << p.mass_crushed_kg << ",\n";
-    o << "  \"psd\": {\"sieve_mm\": ";
-    json_array(o, p.sieve_mm);
+    o << "  \"throughput_tph\": ";
+    j.num("throughput_tph", tph);
+    o << ",\n  \"specific_energy_kWh_per_t\": ";
+    if (tph > 0) j.num("specific_energy_kWh_per_t", s.power_kW.mean / tph); else o << "null";
+    o << ",\n  \"mass_discharged_kg\": ";
+    j.num("mass_discharged_kg", p.mass_discharged_kg);
+    o << ",\n  \"mass_lost_kg\": ";
+    j.num("mass_lost_kg", p.mass_lost_kg);
+    o << ",\n  \"mass_crushed_kg\": ";
+    j.num("mass_crushed_kg", p.mass_crushed_kg);
+    o << ",\n  \"psd\": {\"sieve_mm\": ";
+    json_array(j, "psd.sieve_mm", p.sieve_mm);
     o << ", \"passing_pct\": ";
-    json_array(o, p.passing_pct);
+    json_array(j, "psd.passing_pct", p.passing_pct);
     o << "},\n";
     const double p80 = passing_size_mm(p.sieve_mm, p.passing_pct, 80);
     const bool any = p.mass_discharged_kg > 0 && !p.sieve_mm.empty();
     o << "  \"p80_mm\": ";
-    if (any && p80 > 0) o << p80; else o << "null";
+    if (any && p80 > 0) j.num("p80_mm", p80); else o << "null";
     o << ",\n  \"passing_12mm_pct\": ";
-    if (any) o << passing_at_mm(p.sieve_mm, p.passing_pct, 12); else o << "null";
+    if (any) j.num("passing_12mm_pct", passing_at_mm(p.sieve_mm, p.passing_pct, 12)); else o << "null";
     o << ",\n  \"passing_1mm_pct\": ";
-    if (any) o << passing_at_mm(p.sieve_mm, p.passing_pct, 1); else o << "null";
+    if (any) j.num("passing_1mm_pct", passing_at_mm(p.sieve_mm, p.passing_pct, 1)); else o << "null";
     o << ",\n";
   } else {
     o << "  \"throughput_tph\": null,\n  \"specific_energy_kWh_per_t\": null,\n  \"mass_discharged_kg\": null,\n"
       << "  \"mass_lost_kg\": null,\n  \"mass_crushed_kg\": null,\n  \"psd\": null,\n"
       << "  \"p80_mm\": null,\n  \"passing_12mm_pct\": null,\n  \"passing_1mm_pct\": null,\n";
   }
-  o << "  \"simulated_s\": " << s.simulated_s << ",\n";
-  o << "  \"wall_s\": " << s.wall_s << "\n}\n";
+  o << "  \"simulated_s\": ";
+  j.num("simulated_s", s.simulated_s);
+  o << ",\n  \"wall_s\": ";
+  j.num("wall_s", s.wall_s);
+  o << ",\n  \"stopped\": ";
+  if (s.stopped.empty()) o << "null"; else o << "\"" << escape(s.stopped) << "\"";
+  o << "\n}\n";
   return o.str();
 }
 

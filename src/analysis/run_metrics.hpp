@@ -37,6 +37,7 @@ struct RunSummary {
   std::optional<ProductSummary> product;
   double simulated_s = 0, wall_s = 0;
   std::string config, load;
+  std::string stopped;  // why the run ended before its end ("" when it ran to its end): null in summary.json
 };
 
 // Summary over t >= t_from (settling excluded). Amplitudes in mm, power in kW.
@@ -49,7 +50,8 @@ double passing_size_mm(const std::vector<double>& sieve_mm, const std::vector<do
 double passing_at_mm(const std::vector<double>& sieve_mm, const std::vector<double>& passing_pct, double x_mm);
 
 
-// summary.json as DESIGN.md specifies; fields that need particles are null without a product.
-std::string to_json(const RunSummary& s);
+// summary.json as DESIGN.md specifies; fields that need particles are null without a product. JSON has no inf or
+// nan: a non-finite value is written as null and its field added to *non_finite (for the caller's warning).
+std::string to_json(const RunSummary& s, std::vector<std::string>* non_finite = nullptr);
 
 }  // namespace analysis

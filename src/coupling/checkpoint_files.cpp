@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 namespace coupling {
@@ -12,7 +15,39 @@ namespace coupling {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr uint32_t kVersion = 2;  // 2: growing fragments (crushing.fragment_growth_s)
+constexpr uint32_t kVersion = 3;  // 2: growing fragments (crushing.fragment_growth_s); 3: CRC-32 trailer
+
+// CRC-32 (IEEE 802.3, as zlib's crc32) of a file's bytes: a changed bit or a cut changes it.
+uint32_t crc32(const std::string& bytes) {
+  static const auto table = [] {
+    std::vector<uint32_t> t(256);
+    for (uint32_t n = 0; n < 256; ++n) {
+      uint32_t c = n;
+      for (int k = 0; k < 8; ++k) c = c & 1 ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[n] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : bytes) c = table[(c ^ b) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+// The file's contents without its CRC trailer; throws std::runtime_error naming the file when the CRC differs.
+std::string checked_contents(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("checkpoint: cannot open " + path);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  uint32_t stored = 0;
+  if (bytes.size() >= sizeof stored) {
+    std::memcpy(&stored, bytes.data() + bytes.size() - sizeof stored, sizeof stored);
+    bytes.resize(bytes.size() - sizeof stored);
+  }
+  if (bytes.size() < 8 || bytes.compare(bytes.size() - 4, 4, "DONE") != 0 || crc32(bytes) != stored)
+    throw std::runtime_error("checkpoint " + path + ": damaged (its CRC-32 does not match: a changed bit, or a file "
+                             "cut short)");
+  return bytes;
+}
 
 // "<node>.<digits><suffix>" -> digits as a number, or nullopt
 std::optional<uint64_t> number_in(const std::string& name, const std::string& prefix, const std::string& suffix) {
@@ -48,19 +83,28 @@ void write_checkpoint(const std::string& out, const CheckpointHeader& h,
                       const std::function<void(core::BinaryWriter&)>& body, int keep) {
   fs::create_directories(checkpoint_dir(out));
   const std::string path = checkpoint_path(out, h.node, h.step), tmp = path + ".tmp";
+  std::ostringstream buf(std::ios::binary);
+  core::BinaryWriter w(buf);
+  w.tag("ICCK");
+  w.put(kVersion);
+  w.put_string(h.node);
+  w.put(h.step);
+  w.put(h.time);
+  body(w);
+  w.tag("DONE");
+  const std::string bytes = buf.str();
+  const uint32_t crc = crc32(bytes);
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
     if (!f) throw std::runtime_error("checkpoint: cannot write " + tmp);
-    core::BinaryWriter w(f);
-    w.tag("ICCK");
-    w.put(kVersion);
-    w.put_string(h.node);
-    w.put(h.step);
-    w.put(h.time);
-    body(w);
-    w.tag("DONE");
+    f.write(bytes.data(), std::streamsize(bytes.size()));
+    f.write(reinterpret_cast<const char*>(&crc), sizeof crc);
     f.close();
-    if (!f) throw std::runtime_error("checkpoint: writing " + tmp + " failed (disk full?)");
+    if (!f) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error("checkpoint: writing " + tmp + " failed (disk full?)");
+    }
   }
   fs::rename(tmp, path);
   const auto common = latest_common_checkpoint(out, {"mbd", "dem"});
@@ -90,12 +134,27 @@ std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const s
   return common->back();
 }
 
-uint64_t resume_step(const std::string& out) {
-  const auto k = latest_common_checkpoint(out, {"mbd", "dem"});
-  if (!k)
-    throw std::runtime_error("~resume: no checkpoint written by both nodes in " + checkpoint_dir(out) +
-                             " (a run writes them with run.checkpoint_every_s > 0)");
-  return *k;
+uint64_t resume_step(const std::string& out, std::vector<std::string>* passed_over) {
+  std::vector<std::string> damaged;
+  auto mbd = checkpoint_steps(out, "mbd"), dem = checkpoint_steps(out, "dem"), both = mbd;
+  both.clear();
+  std::set_intersection(mbd.begin(), mbd.end(), dem.begin(), dem.end(), std::back_inserter(both));
+  for (auto k = both.rbegin(); k != both.rend(); ++k) {
+    bool sound = true;
+    for (const char* node : {"mbd", "dem"}) {
+      try {
+        checked_contents(checkpoint_path(out, node, *k));
+      } catch (const std::runtime_error& e) {
+        damaged.push_back(std::string(e.what()) + "; passed over");
+        sound = false;
+      }
+    }
+    if (passed_over) *passed_over = damaged;
+    if (sound) return *k;
+  }
+  std::string why = " (a run writes them with run.checkpoint_every_s > 0)";
+  if (!damaged.empty()) why = ": " + damaged.front() + (damaged.size() > 1 ? ", and others" : "");
+  throw std::runtime_error("~resume: no sound checkpoint written by both nodes in " + checkpoint_dir(out) + why);
 }
 
 long checkpoint_interval_steps(double every_s, double coupling_dt) {
@@ -105,8 +164,7 @@ long checkpoint_interval_steps(double every_s, double coupling_dt) {
 CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,
                                  const std::function<void(core::BinaryReader&)>& body) {
   const std::string path = checkpoint_path(out, node, step);
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("checkpoint: cannot open " + path);
+  std::istringstream f(checked_contents(path), std::ios::binary);
   core::BinaryReader r(f, path);
   r.expect("ICCK");
   const auto version = r.get<uint32_t>();

@@ -3,8 +3,9 @@
 //   OUT/checkpoint/<node>.<step>.ckpt   state of one node at the start of coupling step <step> (mbd, dem);
 //                                       written to a .tmp file and renamed, the newest two of each node kept
 //   OUT/<base>.seg<step>.bag            a node's bag from the checkpoint at <step> (0: the start) to the next one
-// A run resumes at the newest step that both nodes wrote. Each file starts with a header naming the node,
-// the step and the simulated time.
+// A run resumes at the newest step that both nodes wrote, sound. Each file starts with a header naming the node,
+// the step and the simulated time, and ends with a CRC-32 of everything before it: a damaged file is refused by
+// name, and a resume passes over it to the older step both nodes kept.
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -33,12 +34,13 @@ std::vector<uint64_t> checkpoint_steps(const std::string& out, const std::string
 void remove_checkpoints_after(const std::string& out, const std::string& node, uint64_t step);
 // Newest step present for every node ("mbd", "dem"); nullopt when there is none.
 std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const std::vector<std::string>& nodes);
-// The step a resumed coupled run starts from: the newest both nodes wrote. Throws std::runtime_error if none.
-uint64_t resume_step(const std::string& out);
+// The step a resumed coupled run starts from: the newest both nodes wrote whose two files are sound (CRC-32);
+// the damaged ones passed over are described in *passed_over. Throws std::runtime_error if there is none.
+uint64_t resume_step(const std::string& out, std::vector<std::string>* passed_over = nullptr);
 // Coupling steps between checkpoints for run.checkpoint_every_s (> 0) and the coupling interval.
 long checkpoint_interval_steps(double every_s, double coupling_dt);
-// Opens the checkpoint of `node` at `step`, checks its header and calls `body` with a reader positioned after it.
-// Throws std::runtime_error naming the file on any mismatch. Returns the header.
+// Opens the checkpoint of `node` at `step`, checks its CRC-32 and header and calls `body` with a reader positioned
+// after it. Throws std::runtime_error naming the file on any mismatch. Returns the header.
 CheckpointHeader read_checkpoint(const std::string& out, const std::string& node, uint64_t step,
                                  const std::function<void(core::BinaryReader&)>& body);
 

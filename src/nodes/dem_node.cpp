@@ -163,10 +163,12 @@ class DemNode {
     last_heard_ = nodes::wall_now();
     try {
       while (!finished_) {
-        if (nodes::stop_requested() || !ros::ok()) {
-          ROS_WARN("dem_node: stopped; closing the bag");
+        if (nodes::stop_requested()) {
+          ROS_WARN("dem_node: %s; closing the bag (the run is incomplete)", nodes::stop_reason().c_str());
+          status = nodes::stop_exit_status();
           break;
         }
+        if (!ros::ok()) throw std::runtime_error(nodes::kShutdownFromOutside);
         nodes::wait_for_callbacks(0.01);
         if (error_) throw std::runtime_error(*error_);
         const double limit = requested_ ? cfg_.coupling.timeout_s : cfg_.coupling.first_timeout_s;
@@ -180,11 +182,11 @@ class DemNode {
       if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_)
         checkpoint_and_rotate(*follower_.last_answered() + 1);
     } catch (const std::exception& e) {
-      ROS_ERROR("dem_node: %s; the bag and the break log are kept", e.what());
+      nodes::log_error(std::string("dem_node: ") + e.what() + "; the bag and the break log are kept");
       status = 1;
       tell_leader(e.what());
     }
-    if (!finished_ && status == 0) tell_leader("stopped by a signal");
+    if (status > 1) tell_leader(nodes::stop_reason());  // stopped by a signal
     publish_outputs(true);
     bag_.close();
     write_trajectories();
@@ -447,7 +449,9 @@ class DemNode {
 
   // Returns the break log's length at the checkpoint.
   std::streamoff resume_from_checkpoint() {
-    const uint64_t k = coupling::resume_step(out_);
+    std::vector<std::string> damaged;
+    const uint64_t k = coupling::resume_step(out_, &damaged);
+    for (const auto& d : damaged) ROS_WARN("%s: %s", "dem_node", d.c_str());
     std::streamoff breaks_size = 0;
     auto h = coupling::read_checkpoint(out_, "dem", k, [&](core::BinaryReader& r) {
       dem_->load_state(r);
@@ -501,8 +505,9 @@ int main(int argc, char** argv) {
   Config cfg;
   try {
     cfg = load_config(config_path);
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // mbd_node, waiting for the first answer, stops now instead of timing out
     std::fprintf(stderr, "dem_node: %s\n", e.what());
+    tell_leader_early(nh, e.what());
     return 2;
   }
   if (duration > 0) cfg.run.duration_s = duration;
@@ -514,6 +519,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     DemNode node(nh, std::move(cfg), out, resume);
+    nodes::mark_running();
     return node.run();
   } catch (const std::exception& e) {  // set-up failed (e.g. a checkpoint that does not fit): tell mbd_node
     std::fprintf(stderr, "dem_node: %s\n", e.what());

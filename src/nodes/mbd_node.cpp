@@ -129,9 +129,13 @@ class MbdNode {
       loop();
       // The end: a resumed run extends it (what follows, the last product, belongs after the checkpoint).
       if (ck_steps_ && leader_.completed() != last_checkpoint_) checkpoint_and_rotate();
+      if (!stopped_.empty()) status = nodes::stop_requested() ? nodes::stop_exit_status() : 1;
     } catch (const std::exception& e) {
-      ROS_ERROR("mbd_node: %s (t = %.4f s); the bag and the partial summary are kept", e.what(), mech_->time());
-      status = 1;
+      char t[32];
+      std::snprintf(t, sizeof t, "%.4f", mech_->time());
+      nodes::log_error(std::string("mbd_node: ") + e.what() + " (t = " + t + " s); the bag and the partial summary are kept");
+      status = nodes::stop_requested() && peer_stopped_.empty() ? nodes::stop_exit_status() : 1;
+      stopped_ = e.what();
       // Stopped while waiting for an answer (a signal, or dem_node stopped): the mechanism has not moved since
       // it asked for that step, so its state is the one at the step dem_node checkpoints when it stops.
       if (ck_steps_ && waiting_ && leader_.completed() != last_checkpoint_) {
@@ -162,7 +166,8 @@ class MbdNode {
     double next_progress = 0;
     while (mech_->time() < t_end - 0.5 * dt) {
       if (nodes::stop_requested() || !ros::ok()) {
-        ROS_WARN("mbd_node: stopped at t = %.4f s; closing the bag", mech_->time());
+        stopped_ = nodes::stop_requested() ? nodes::stop_reason() : nodes::kShutdownFromOutside;
+        ROS_WARN("mbd_node: %s at t = %.4f s; closing the bag (the run is incomplete)", stopped_.c_str(), mech_->time());
         break;
       }
       if (ck_steps_ && leader_.completed() % ck_steps_ == 0 && leader_.completed() != last_checkpoint_)
@@ -205,14 +210,21 @@ class MbdNode {
       nodes::wait_for_callbacks(0.01);
       if (!leader_.pending()) break;
       const double now = nodes::wall_now();
-      // A stop while the DEM works on this step: let it finish the step (it stops between steps), apply it, and
-      // stop at the top of the loop, so both nodes checkpoint the same step.
-      if (!ros::ok()) throw std::runtime_error("ROS shut down while waiting for dem_node");
-      if (nodes::stop_requested() && !stop_noted_) {
-        stop_noted_ = true;
-        ROS_WARN("mbd_node: stopping after the step dem_node is working on");
-      }
       if (!peer_stopped_.empty()) throw std::runtime_error("dem_node has stopped: " + peer_stopped_);
+      if (!ros::ok()) throw std::runtime_error(std::string(nodes::kShutdownFromOutside) + " while waiting for dem_node");
+      // A stop while the DEM works on this step: let it finish the step (it stops between steps), apply it, and
+      // stop at the top of the loop, so both nodes checkpoint the same step. Before its first answer (it may still
+      // be packing) or when it does not answer within kStopGrace_s, stop now.
+      if (nodes::stop_requested()) {
+        if (!answered_any_) throw std::runtime_error(nodes::stop_reason() + " while waiting for dem_node's first answer");
+        if (stop_noted_ == 0) {
+          stop_noted_ = now;
+          ROS_WARN("mbd_node: stopping after the step dem_node is working on");
+        } else if (now - stop_noted_ > kStopGrace_s) {
+          throw std::runtime_error(nodes::stop_reason() + "; dem_node did not finish its step within " +
+                                   std::to_string(static_cast<int>(kStopGrace_s)) + " s");
+        }
+      }
       leader_.check_timeout(now);
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
     }
@@ -246,6 +258,7 @@ class MbdNode {
       return;
     }
     if (!leader_.answer(w->step, nodes::wall_now())) return;  // a duplicate of an answered step
+    answered_any_ = true;
     wrench_.mantle_force = nodes::from_msg(w->mantle.force);
     wrench_.mantle_torque = nodes::from_msg(w->mantle.torque);
     wrench_.concave_force = nodes::from_msg(w->concave.force);
@@ -362,13 +375,17 @@ class MbdNode {
     s.wall_s = wall_s_;
     s.config = config_path_;
     s.load = cfg_.run.load;
+    s.stopped = stopped_;
     if (product_) s.product = product_;
     if (flow_ && flow_window_) {  // the product discharged after the settle time
       auto w = *flow_window_;
       chamber::close_window(w, flow_->model(), mech_->time());
       s.product = nodes::flow_product(flow_->model(), w.by_class(), w.throughput_tph());
     }
-    std::ofstream(out_ + "/summary.json") << analysis::to_json(s);
+    std::vector<std::string> non_finite;
+    std::ofstream(out_ + "/summary.json") << analysis::to_json(s, &non_finite);
+    for (const auto& f : non_finite)
+      ROS_WARN("mbd_node: summary.json: %s is not a finite number, written as null", f.c_str());
     ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.3gx real time); amplitude x %.3f mm, power %.2f kW",
              s.simulated_s, wall_s_, s.simulated_s / std::max(wall_s_, 1e-9), s.amplitude_x_mm.mean,
              s.power_kW.mean);
@@ -412,7 +429,9 @@ class MbdNode {
   }
 
   void resume_from_checkpoint() {
-    const uint64_t k = coupling::resume_step(out_);
+    std::vector<std::string> damaged;
+    const uint64_t k = coupling::resume_step(out_, &damaged);
+    for (const auto& d : damaged) ROS_WARN("%s: %s", "mbd_node", d.c_str());
     auto h = coupling::read_checkpoint(out_, "mbd", k, [&](core::BinaryReader& r) {
       mech_->load_state(r);
       r.expect("NODE");
@@ -456,7 +475,10 @@ class MbdNode {
   std::uint64_t last_recorded_step_ = ~0ull;
   std::string peer_stopped_;  // dem_node's reason, when it has stopped
   bool waiting_ = false;  // inside exchange(): a step was requested and the mechanism has not moved since
-  bool stop_noted_ = false;
+  bool answered_any_ = false;  // dem_node has answered a step in this process
+  double stop_noted_ = 0;      // wall time a stop was first seen while dem_node worked on a step
+  static constexpr double kStopGrace_s = 5.0;
+  std::string stopped_;        // why the run ended early ("" when it ran to its end)
   double wall_s_ = 0;
   struct {
     Eigen::Vector3d mantle_force = Eigen::Vector3d::Zero(), mantle_torque = Eigen::Vector3d::Zero();
@@ -493,6 +515,7 @@ int main(int argc, char** argv) {
   }
   try {
     MbdNode node(nh, std::move(cfg), out, config_path, nodes::param_or(pnh, "max_rtf", 0.0), resume);
+    nodes::mark_running();
     return node.run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbd_node: %s\n", e.what());

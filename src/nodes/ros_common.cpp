@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdio>
+#include <unistd.h>
 
 namespace nodes {
 
@@ -65,8 +67,11 @@ void BagRecorder::close() {
 }
 
 namespace {
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
+volatile std::sig_atomic_t g_stop = 0, g_running = 0;
+void on_signal(int sig) {
+  if (!g_running) _exit(128 + sig);
+  g_stop = sig;
+}
 }  // namespace
 
 void install_stop_handler() {
@@ -74,7 +79,21 @@ void install_stop_handler() {
   std::signal(SIGTERM, on_signal);
 }
 
+void mark_running() { g_running = 1; }
+
 bool stop_requested() { return g_stop != 0; }
+
+int stop_signal() { return g_stop; }
+
+std::string stop_reason() {
+  if (!g_stop) return "";
+  return std::string("stopped by a signal (") + (g_stop == SIGINT ? "SIGINT" : g_stop == SIGTERM ? "SIGTERM" : "?") + ")";
+}
+
+void log_error(const std::string& msg) {
+  if (ros::ok()) ROS_ERROR("%s", msg.c_str());
+  else std::fprintf(stderr, "[ERROR] %s\n", msg.c_str());
+}
 
 double wall_now() {
   using namespace std::chrono;

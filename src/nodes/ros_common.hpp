@@ -47,9 +47,21 @@ class BagRecorder {
   std::map<std::string, long> count_;
 };
 
-// SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept.
+// SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept. Before
+// mark_running() (the set-up: loading, packing, a warm start) there is nothing to keep: a signal ends the process
+// at once with status 128 + signal.
 void install_stop_handler();
+void mark_running();
 bool stop_requested();
+int stop_signal();                 // the signal that asked the node to stop (0: none)
+std::string stop_reason();         // "stopped by a signal (SIGTERM)", "" when none
+inline int stop_exit_status() { return 128 + stop_signal(); }  // 130 for SIGINT, 143 for SIGTERM
+// An error for the log: ROS_ERROR, or stderr once ROS has shut down (rosconsole prints nothing then).
+void log_error(const std::string& msg);
+// Said when ros::ok() turns false without a signal: someone outside ended the node.
+constexpr const char* kShutdownFromOutside =
+    "ROS shut the node down from outside (an XML-RPC shutdown request, e.g. rosnode kill, or a node started with "
+    "the same name)";
 
 // Publishes a GeometryWrench saying dem_node has stopped and why, a few times over 0.25 s (mbd_node stops at once).
 template <class WrenchMsg>

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/run_program.hpp"
 #include "core/units.hpp"
 #include "rocks/calibration.hpp"
 #include "rocks/rock_file.hpp"
@@ -121,13 +122,6 @@ int confirm_only(const Args& a) {
               brazilian_tensile_strength(r.peak_force, c.diameter, c.length) * 1e-6, r.critical_compression_ratio,
               seconds_since(t0));
   return 0;
-}
-
-std::string find_plot_script() {
-  for (const fs::path& p : {fs::path("src/tools/plot_calibration.py"),
-                            fs::path(__FILE__).parent_path() / "plot_calibration.py"})
-    if (fs::exists(p)) return p.string();
-  return "";
 }
 
 int full(const Args& a) {
@@ -340,13 +334,7 @@ int full(const Args& a) {
     for (std::size_t k = 0; k < rock_res.size(); ++k) o << (k ? ", " : "") << json_num(rock_res[k].critical_compression_ratio);
     o << "],\n  \"total_wall_s\": " << json_num(seconds_since(t0)) << "\n}\n";
   }
-  const std::string script = find_plot_script();
-  if (script.empty()) {
-    std::fprintf(stderr, "calibrate: plot_calibration.py not found: no PNG plots written\n");
-  } else {
-    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "'";
-    if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "calibrate: plotting failed (%s)\n", cmd.c_str());
-  }
+  core::run_plot_script("calibrate", "plot_calibration.py", a.out);
   std::printf("DOE: 16 runs in %.1f s on %d threads; optimum F_c %.3f kN (%+.1f %% of %.1f kN) after %zu confirmation "
               "run(s); outputs in %s\n",
               doe_wall, a.threads, fin.r.peak_force * 1e-3, 100 * fin_err, c.target_force * 1e-3, steps.size(),

@@ -20,6 +20,7 @@
 #include "analysis/mbd_model.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
+#include "core/run_program.hpp"
 #include "mbd/mechanism_params.hpp"
 
 #ifdef CRUSHER_WITH_ROS
@@ -218,10 +219,7 @@ int main(int argc, char** argv) {
         write_overlay(dir / ("overlay_" + std::to_string(i++) + ".csv"), r.train[k], r.before_train[k], r.after_train[k], 1.0);
       for (std::size_t k = 0; k < r.heldout.size(); ++k)
         write_overlay(dir / ("overlay_" + std::to_string(i++) + ".csv"), r.heldout[k], r.before_heldout[k], r.after_heldout[k], 1.0);
-      const fs::path script = fs::path(__FILE__).parent_path() / "plot_diagnosis.py";
-      const std::string cmd = "/usr/bin/python3 '" + script.string() + "' '" + dir.string() + "'";
-      if (std::system(cmd.c_str()) != 0)
-        std::cerr << "diagnose: warning: plotting failed (" << cmd << "); results are written\n";
+      core::run_plot_script("diagnose", "plot_diagnosis.py", dir.string());
     }
     std::cout << "effect " << r.effect << "\n" << r.reason << "\n";
     if (r.chosen >= 0)

@@ -16,6 +16,7 @@
 
 #include "chamber/piston_die.hpp"
 #include "core/cli_args.hpp"
+#include "core/run_program.hpp"
 
 namespace fs = std::filesystem;
 
@@ -100,16 +101,6 @@ std::string find_file(const std::string& rel) {
   for (const fs::path& p : {fs::path(rel), fs::path(__FILE__).parent_path().parent_path().parent_path() / rel})
     if (fs::exists(p)) return p.string();
   return "";
-}
-
-void plot(const Args& a) {
-  const std::string script = find_file("src/tools/plot_piston_die.py");
-  if (script.empty()) {
-    std::fprintf(stderr, "piston_die: plot_piston_die.py not found: no PNG plots written\n");
-    return;
-  }
-  const std::string cmd = "/usr/bin/python3 '" + script + "' '" + a.out + "'";
-  if (std::system(cmd.c_str()) != 0) std::fprintf(stderr, "piston_die: plotting failed (%s)\n", cmd.c_str());
 }
 
 std::string f(const char* fmt, double x) {
@@ -212,7 +203,7 @@ int main(int argc, char** argv) {
   try {
     fs::create_directories(a.out);
     const int rc = a.lab.empty() ? run_dem(a) : run_lab(a);
-    plot(a);
+    core::run_plot_script("piston_die", "plot_piston_die.py", a.out);
     return rc;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "piston_die: %s\n", e.what());

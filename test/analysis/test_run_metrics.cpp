@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
 
 #include "analysis/run_metrics.hpp"
 
@@ -70,4 +73,21 @@ TEST(RunMetrics, JsonHasContractFieldsAndNullsWithoutParticles) {
 TEST(RunMetrics, RejectsNonPositiveSpeed) {
   std::vector<double> t{0, 1}, v{0, 1};
   EXPECT_THROW(analysis::cycle_amplitude(t, v, 0.0), std::invalid_argument);
+}
+
+// JSON has no inf or nan (a damaged checkpoint once wrote "mean": inf): null, and the field named for a warning.
+TEST(RunMetrics, JsonWritesNonFiniteAsNullAndNamesTheField) {
+  analysis::RunSummary s;
+  s.amplitude_x_mm.mean = std::numeric_limits<double>::infinity();
+  s.product = analysis::ProductSummary{std::nan(""), 10.0, {1, 12}, {2.0, -std::numeric_limits<double>::infinity()}, 0.25};
+  s.stopped = "stopped by a signal (SIGTERM)";
+  std::vector<std::string> bad;
+  const auto j = analysis::to_json(s, &bad);
+  for (const char* word : {"inf", "nan", "INF", "NAN"}) EXPECT_EQ(j.find(word), std::string::npos) << word << "\n" << j;
+  EXPECT_NE(j.find("\"amplitude_x_mm\": {\"mean\": null"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"throughput_tph\": null"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"passing_pct\": [2, null]"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"stopped\": \"stopped by a signal (SIGTERM)\""), std::string::npos) << j;
+  EXPECT_EQ(bad, (std::vector<std::string>{"amplitude_x_mm.mean", "throughput_tph", "psd.passing_pct", "passing_12mm_pct"}));
+  EXPECT_NE(analysis::to_json(analysis::RunSummary{}).find("\"stopped\": null"), std::string::npos);
 }

@@ -72,3 +72,46 @@ TEST(CheckpointFiles, SegmentsAndStrayNames) {
   EXPECT_EQ(coupling::bag_segment_path(out, "dem", 1234), out + "/dem.seg0000001234.bag");
   EXPECT_FALSE(coupling::latest_common_checkpoint(out, {"mbd", "dem"}).has_value());
 }
+
+namespace {
+void flip_bit(const std::string& path, std::size_t bit) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekg(std::streamoff(bit / 8));
+  char c = 0;
+  f.get(c);
+  f.seekp(std::streamoff(bit / 8));
+  f.put(char(c ^ (1 << (bit % 8))));
+}
+}  // namespace
+
+// Every single-bit flip of a checkpoint is refused naming the file (before: 10 of 10 flips in a DEM checkpoint
+// were accepted), and a resume passes over the damaged newest step to the older one both nodes kept.
+TEST(CheckpointFiles, AFlippedBitIsRefusedByNameAndTheOlderCheckpointUsed) {
+  const auto out = fresh_dir("crc");
+  for (uint64_t k : {20, 40}) write(out, "mbd", k), write(out, "dem", k);
+  const auto path = coupling::checkpoint_path(out, "dem", 40);
+  const auto bits = std::filesystem::file_size(path) * 8;
+  for (std::size_t b = 0; b < bits; ++b) {
+    flip_bit(path, b);
+    try {
+      coupling::read_checkpoint(out, "dem", 40, [](core::BinaryReader& r) { r.get<double>(); });
+      ADD_FAILURE() << "bit " << b << " flipped was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": damaged"), std::string::npos) << e.what();
+    }
+    flip_bit(path, b);
+  }
+  EXPECT_EQ(coupling::resume_step(out), 40u);
+  flip_bit(path, 100);
+  std::vector<std::string> passed;
+  EXPECT_EQ(coupling::resume_step(out, &passed), 20u);
+  ASSERT_EQ(passed.size(), 1u);
+  EXPECT_NE(passed[0].find("dem.0000000040.ckpt: damaged"), std::string::npos) << passed[0];
+  std::filesystem::resize_file(coupling::checkpoint_path(out, "mbd", 20), 30);  // cut short
+  try {
+    coupling::resume_step(out);
+    FAIL() << "no sound checkpoint, yet a step was given";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no sound checkpoint"), std::string::npos) << e.what();
+  }
+}

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Every subcommand of scripts/crusher answers --help with its usage (exit 0, the subcommand named), without
 # building or installing anything; an unknown subcommand is refused naming the accepted ones; `run --duration`
-# at or below the settle time is refused.
+# at or below the settle time is refused, and so is a run into an out dir that holds one (without --resume/--force).
 set -euo pipefail
 crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
 for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording export build setup env; do
@@ -16,4 +16,12 @@ grep -q "accepted: demo" <<<"$msg" || { echo "FAIL: unknown subcommand message: 
 if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" run "$CRUSHER_SOURCE_DIR/launch_free_configs/gyp1200_400rpm.yaml" \
     --duration 3 --out "$(mktemp -d)" 2>&1); then echo "FAIL: --duration 3 below settle_s 4 was accepted"; exit 1; fi
 grep -q "run.settle_s = 4" <<<"$msg" || { echo "FAIL: the duration guard does not name run.settle_s: $msg"; exit 1; }
-echo "every subcommand answers --help; a run shorter than its settle time is refused"
+# An out dir that holds a run is not replaced silently: refused without --resume or --force, its checkpoints kept.
+held=$(mktemp -d)
+mkdir -p "$held/checkpoint" && touch "$held/summary.json" "$held/checkpoint/mbd.0000000040.ckpt"
+if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" run "$CRUSHER_SOURCE_DIR/launch_free_configs/quick_demo.yaml" --out "$held" 2>&1); then
+  echo "FAIL: a run into an out dir holding a run was accepted"; exit 1; fi
+grep -q "already holds a run.*--resume.*--force" <<<"$msg" || { echo "FAIL: the held out dir message: $msg"; exit 1; }
+[[ -f $held/checkpoint/mbd.0000000040.ckpt ]] || { echo "FAIL: the earlier run's checkpoint was deleted"; exit 1; }
+rm -rf "$held"
+echo "every subcommand answers --help; a run shorter than its settle time, or into a run's out dir, is refused"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Checkpoint and resume of a coupled run, through `scripts/crusher run` as a user runs it:
 #   A: 0.12 s in one go, checkpoints every 0.04 s;
-#   B: the same case stopped at 0.08 s, then `--resume --duration 0.12`.
+#   B: the same case stopped at 0.08 s, a bit flipped in dem_node's newest checkpoint, then `--resume --duration
+#      0.12`: the damaged checkpoint is refused by name and the run resumes from the older one (0.04 s).
 # check_resume.py requires B's joined run.bag to equal A's message for message, byte for byte (every topic of
 # both nodes: wrenches, liner states, test point, power, product, particles), the same summary.json and break
 # log, and every coupling step exactly once. C: the same after both nodes are killed (a crash).
@@ -30,8 +31,13 @@ run_case A
 run_case B --duration 0.08
 ls "$out/B/checkpoint"
 cp "$out/B/breaks.csv" "$out/B_first_leg_breaks.csv"
+# One bit flipped in dem_node's newest checkpoint (0.08 s): refused by name, the older step (0.04 s) resumed.
+/usr/bin/python3 -c 'import sys; f = open(sys.argv[1], "r+b"); f.seek(5000); b = f.read(1); f.seek(5000); f.write(bytes([b[0] ^ 4]))' \
+  "$out/B/checkpoint/dem.0000000080.ckpt"
 run_case B --duration 0.12 --resume
-grep -h "resumed\|checkpoint at" "$out/B.log" | sed 's/\x1b\[[0-9;]*m//g' | head -n 8
+grep -h "resumed\|checkpoint at\|damaged" "$out/B.log" | sed 's/\x1b\[[0-9;]*m//g' | head -n 8
+grep -q "dem.0000000080.ckpt: damaged" "$out/B.log" && grep -q "resumed from the checkpoint at step 40 " "$out/B.log" ||
+  { echo "FAIL: the damaged newest checkpoint was not passed over for the older one"; exit 1; }
 /usr/bin/python3 "$src/test/ros/check_resume.py" "$out/A" "$out/B"
 
 # C: a crash. Both nodes are killed (SIGKILL: no bag closed, no final checkpoint) soon after the checkpoint at
