@@ -31,7 +31,8 @@ Outputs in DIR:
                     (t/h), specific energy (kWh/t), P80 (mm), passing 12 mm and 1 mm (%), wall_s (the solver's,
                     from summary.json; the case's whole time when it failed), status (ok, the error, pending),
                     case. Rewritten after each case.
-  cases/NAME/       case.yaml, summary.json, run.log, status.json, the run's plots; run.bag only with --bag
+  cases/NAME/       case.yaml, summary.json, run.log, status.json; run.bag only with --bag (the run's own
+                    plots are left out: `crusher run cases/NAME/case.yaml --out D` makes them)
   fig22_amplitude.png, fig23_psd.png, fig24_specific_energy.png   the paper's Figures 22-24 (plot_sweep.py),
                     the plant's Table 5 points (400 and 600 rpm, 24.1 t) marked; then the paper's trends, checked.
 Resumable: a case whose summary.json is complete for the same case.yaml and options is skipped. A failed case
@@ -101,18 +102,20 @@ def is_complete(case_dir, text, opts):
 
 
 def error_line(log_path, rc):
-    """The run's last error line, without ROS's prefixes, or the exit code."""
+    """Why a run failed: its last error line (ROS's prefixes removed), else the nodes' last word, else the log's
+    last line, else the exit status."""
     import re
     try:
-        lines = open(log_path, errors="replace").read().splitlines()
+        lines = [re.sub(r"\x1b\[[0-9;]*m", "", x).strip() for x in open(log_path, errors="replace").read().splitlines()]
     except OSError:
         lines = []
-    for line in reversed(lines):
-        clean = re.sub(r"\x1b\[[0-9;]*m", "", line).strip()
-        if re.search(r"error|what\(\)|terminate|fail", clean, re.I):
-            clean = re.sub(r"^\[\s*(ERROR|FATAL)\]\s*\[[0-9.]+\]:\s*", "", clean)
-            return clean.replace("[crusher] error: ", "")[:300]
-    return f"exit status {rc} (no error line in run.log)"
+    lines = [x for x in lines if x]
+    for pattern in (r"error|what\(\)", r"^(mbd|dem)_node:", r"."):
+        hit = next((x for x in reversed(lines) if re.search(pattern, x, re.I)), None)
+        if hit:
+            hit = re.sub(r"^\[\s*(ERROR|FATAL|WARN)\]\s*\[[0-9.]+\]:\s*", "", hit)
+            return hit.replace("[crusher] error: ", "")[:300]
+    return f"exit status {rc}, run.log empty"
 
 
 # Running cases: Popen objects, each the leader of its own process group (stopped together on Ctrl-C).
@@ -129,7 +132,7 @@ def run_case(case_dir, opts, keep_bag):
         cmd += ["--load", opts["load"]]
     if opts["duration"]:
         cmd += ["--duration", repr(opts["duration"])]
-    env = dict(os.environ, CRUSHER_NO_BUILD="1")
+    env = dict(os.environ, CRUSHER_NO_BUILD="1", CRUSHER_RUN_PLOTS="0")  # built once by the sweep; no plots per case
     t0 = time.time()
     log_path = os.path.join(case_dir, "run.log")
     with open(log_path, "w") as log:
