@@ -34,6 +34,7 @@ def batch_script(sdir, listing, n, a, opts):
     if a.bag:
         args += " --bag"
     lines += ["set +u", f"source {ros_setup()}", "set -eu",
+              "export OMP_NUM_THREADS=${SLURM_CPUS_PER_TASK:-1}  # dem.threads 0: the case's cores",
               f"case=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" {listing})",
               f"exec /usr/bin/python3 {HERE}/sweep.py --run-case \"$case\"{args}"]
     return "\n".join(lines) + "\n"

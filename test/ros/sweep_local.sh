@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # `crusher sweep` on the local backend, shortened cases (1.5 s settle, 3 s in all) of the shipped 400 rpm config:
+# 0. --help explains the derived values; a --vary key that is a section is refused, named;
 # 1. a 3-case speed sweep: sweep.csv's rows equal three single `crusher run`s of the cases' configs (every column
 #    but the wall time), the time step follows the speed, the figures and the trend checks come out;
 # 2. resumed after one case's summary is lost and the grid extended: only those two cases run;
@@ -11,6 +12,11 @@ crusher="$src/scripts/crusher"
 fail() { echo "FAIL: $*"; exit 1; }
 printf 'base: %s\nrun: {duration_s: 3.0, settle_s: 1.5}\n' "$src/launch_free_configs/gyp1200_400rpm.yaml" >"$out/base.yaml"
 sweep() { CRUSHER_NO_BUILD=1 bash "$crusher" sweep "$out/base.yaml" "$@"; }
+# 0. --help, a --vary key that is no number
+help=$(bash "$crusher" sweep --help) && grep -q "^usage: crusher sweep" <<<"$help" && grep -q "inertia_kg_m2 scales" <<<"$help" ||
+  fail "crusher sweep --help: $help"
+if msg=$(sweep --vary mbd.drive=1:2:1 --out "$out/bad" 2>&1); then fail "a section as --vary key was accepted"; fi
+grep -q "'mbd.drive' is a section, not a number" <<<"$msg" || fail "bad --vary key message: $msg"
 
 # 1. three cases against three single runs
 sweep --vary mbd.drive.speed_rpm=400:600:100 --jobs 2 --out "$out/s" >"$out/s.log" 2>&1 ||

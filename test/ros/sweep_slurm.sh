@@ -19,7 +19,7 @@ chmod 700 "$sl/munge"
 head -c 1024 /dev/urandom >"$sl/munge/munge.key"
 chmod 400 "$sl/munge/munge.key"
 munged --foreground --force --socket="$sl/munge/sock" --key-file="$sl/munge/munge.key" \
-  --pid-file="$sl/munge/pid" --log-file="$sl/munge/log" --seed-file="$sl/munge/seed" &
+  --pid-file="$sl/munge/pid" --seed-file="$sl/munge/seed" >"$sl/munge/log" 2>&1 &
 pids+=($!)
 port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
 host=$(hostname -s)
