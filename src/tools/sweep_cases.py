@@ -86,7 +86,10 @@ def parse_vary(items, config):
                     else f"not a number: {v!r}")
             raise SweepError(f"--vary: '{key}' is {what}"
                              " (any numeric key of the merged config; list elements as KEY[i])")
-        out.append((key, values(spec)))
+        vals = values(spec)
+        if isinstance(v, int) and all(x.is_integer() for x in vals):  # an integer key (e.g. flow.bands) stays one
+            vals = [int(x) for x in vals]
+        out.append((key, vals))
     if len(out) == 2 and out[0][0] == out[1][0]:
         raise SweepError(f"--vary: '{out[0][0]}' given twice")
     return out
