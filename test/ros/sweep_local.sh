@@ -17,6 +17,18 @@ help=$(bash "$crusher" sweep --help) && grep -q "^usage: crusher sweep" <<<"$hel
   fail "crusher sweep --help: $help"
 if msg=$(sweep --vary mbd.drive=1:2:1 --out "$out/bad" 2>&1); then fail "a section as --vary key was accepted"; fi
 grep -q "'mbd.drive' is a section, not a number" <<<"$msg" || fail "bad --vary key message: $msg"
+# the trend checks on made-up rows: each verdict (holds, partly, FAILS) where it belongs
+/usr/bin/python3 - "$src/src/tools" <<'PY' || fail "trend checks"
+import sys
+sys.path.insert(0, sys.argv[1])
+import plot_sweep as p
+S, M = p.SPEED, p.MASS
+rows = [{S: s, M: m, "amplitude_x_mean_mm": 5 + s / 100 - m / 1e4, "specific_energy_kWh_per_t": 3 - s / 300,
+         "p80_mm": 10 + s / 100} for s in (400, 500, 600) for m in (20000, 30000)]
+got = {t.split(" (")[0]: w for t, w in p.trends(rows, [S, M])}
+assert got == {"amplitude slightly up with speed": "partly", "amplitude down as the fixed-cone mass rises": "holds",
+               "specific energy up with speed": "FAILS", "product finer with speed: P80 down": "FAILS"}, got
+PY
 
 # 1. three cases against three single runs
 sweep --vary mbd.drive.speed_rpm=400:600:100 --jobs 2 --out "$out/s" >"$out/s.log" 2>&1 ||
