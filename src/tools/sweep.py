@@ -3,6 +3,7 @@
 import argparse
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -104,7 +105,6 @@ def is_complete(case_dir, text, opts):
 def error_line(log_path, rc):
     """Why a run failed: its last error line (ROS's prefixes removed), else the nodes' last word, else the log's
     last line, else the exit status."""
-    import re
     try:
         lines = [re.sub(r"\x1b\[[0-9;]*m", "", x).strip() for x in open(log_path, errors="replace").read().splitlines()]
     except OSError:
