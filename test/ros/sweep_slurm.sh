@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# `crusher sweep --backend slurm` end to end on a single-node Slurm started here (munged, slurmctld and slurmd with a
+# generated slurm.conf in a scratch folder, free ports): a 2-case sweep goes through one job array and its
+# sweep.csv equals the local backend's (every column but the wall time). Skipped (exit 77) only when Slurm cannot be
+# started as a non-root user; as root a Slurm that does not start fails the test.
+source "$(dirname "$0")/ros_env.bash"
+crusher="$src/scripts/crusher"
+fail() { echo "FAIL: $*"; exit 1; }
+cannot_start() {  # why Slurm did not come up
+  if [[ $(id -u) != 0 ]]; then echo "SKIP: cannot start Slurm as the non-root user $(id -un): $*"; exit 77; fi
+  fail "Slurm did not start as root: $*"
+}
+for b in munged slurmctld slurmd sbatch squeue; do
+  command -v "$b" >/dev/null || cannot_start "$b missing (Debian packages slurm-wlm, munge: crusher setup)"
+done
+sl=$out/slurm
+mkdir -p "$sl/state" "$sl/spool" "$sl/munge"
+chmod 700 "$sl/munge"
+head -c 1024 /dev/urandom >"$sl/munge/munge.key"
+chmod 400 "$sl/munge/munge.key"
+munged --foreground --force --socket="$sl/munge/sock" --key-file="$sl/munge/munge.key" \
+  --pid-file="$sl/munge/pid" --seed-file="$sl/munge/seed" >"$sl/munge/log" 2>&1 &
+pids+=($!)
+port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
+host=$(hostname -s)
+user=$(id -un)
+cat >"$sl/slurm.conf" <<EOF
+ClusterName=crushertest
+SlurmctldHost=$host(127.0.0.1)
+SlurmctldPort=$(port)
+SlurmdPort=$(port)
+AuthType=auth/munge
+CredType=cred/munge
+AuthInfo=socket=$sl/munge/sock
+SlurmUser=$user
+SlurmdUser=$user
+StateSaveLocation=$sl/state
+SlurmdSpoolDir=$sl/spool
+SlurmctldPidFile=$sl/slurmctld.pid
+SlurmdPidFile=$sl/slurmd.pid
+SlurmctldLogFile=$sl/slurmctld.log
+SlurmdLogFile=$sl/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+MpiDefault=none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+ReturnToService=2
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
+PartitionName=crusher Nodes=ALL Default=YES MaxTime=INFINITE State=UP
+EOF
+export SLURM_CONF=$sl/slurm.conf
+for _ in $(seq 1 50); do [[ -S $sl/munge/sock ]] && break; sleep 0.1; done
+[[ -S $sl/munge/sock ]] || cannot_start "munged: $(tail -n 2 "$sl/munge/log" 2>/dev/null)"
+slurmctld -D -c -f "$SLURM_CONF" >"$sl/slurmctld.out" 2>&1 &
+pids+=($!)
+slurmd -D -f "$SLURM_CONF" >"$sl/slurmd.out" 2>&1 &
+pids+=($!)
+up=0
+for _ in $(seq 1 60); do
+  [[ $(sinfo -h -o %t 2>/dev/null) == idle ]] && { up=1; break; }
+  sleep 0.5
+done
+((up)) || cannot_start "no idle node after 30 s: $(tail -n 3 "$sl"/slurmctld.log "$sl"/slurmd.log 2>/dev/null | tr '\n' ' ')"
+sinfo
+echo "single-node Slurm up ($host, $(nproc) CPUs)"
+
+printf 'base: %s\nrun: {duration_s: 3.0, settle_s: 1.5}\n' "$src/launch_free_configs/gyp1200_400rpm.yaml" >"$out/base.yaml"
+args=("$out/base.yaml" --vary mbd.drive.speed_rpm=400,600 --no-plots)
+CRUSHER_NO_BUILD=1 CRUSHER_SWEEP_POLL_S=0.5 bash "$crusher" sweep "${args[@]}" --backend slurm --partition crusher \
+  --time 10:00 --cpus-per-case 1 --out "$out/slurm_sweep" >"$out/slurm.log" 2>&1 ||
+  { cat "$out/slurm.log"; cat "$out"/slurm_sweep/slurm/*.out 2>/dev/null; tail -n 20 "$sl/slurmctld.log"; fail "the slurm sweep failed"; }
+cat "$out/slurm.log"
+grep -q "slurm job array [0-9]*: 2 tasks" "$out/slurm.log" || fail "no job array submitted"
+grep -q "^#SBATCH --array=0-1" "$out"/slurm_sweep/slurm/array-*.sh || fail "the batch script is not a 2-task array"
+grep -q "^#SBATCH --partition=crusher" "$out"/slurm_sweep/slurm/array-*.sh || fail "--partition not passed"
+CRUSHER_NO_BUILD=1 bash "$crusher" sweep "${args[@]}" --out "$out/local_sweep" >"$out/local.log" 2>&1 ||
+  { cat "$out/local.log"; fail "the local sweep failed"; }
+/usr/bin/python3 - "$out/slurm_sweep/sweep.csv" "$out/local_sweep/sweep.csv" <<'PY'
+import csv, sys
+a, b = (list(csv.DictReader(open(p))) for p in sys.argv[1:])
+assert len(a) == 2 and all(r["status"] == "ok" for r in a), a
+for ra, rb in zip(a, b):
+    ra.pop("wall_s"); rb.pop("wall_s")
+    assert ra == rb, (ra, rb)
+print("the slurm sweep's rows equal the local sweep's")
+PY
+echo "slurm sweep check passed"
