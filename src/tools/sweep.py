@@ -127,7 +127,7 @@ def run_case(case_dir, opts, keep_bag):
     for f in ("summary.json", "status.json", "run.bag"):
         if os.path.exists(os.path.join(case_dir, f)):
             os.remove(os.path.join(case_dir, f))
-    cmd = [CRUSHER, "run", os.path.join(case_dir, "case.yaml"), "--out", case_dir]
+    cmd = [CRUSHER, "run", os.path.join(case_dir, "case.yaml"), "--out", case_dir, "--force"]  # the sweep's own folder
     if opts["load"]:
         cmd += ["--load", opts["load"]]
     if opts["duration"]:
