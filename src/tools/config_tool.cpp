@@ -17,7 +17,7 @@
 namespace {
 
 void usage(std::ostream& o) {
-  o << "usage: config_tool --keys [SECTION]   key reference (sections: run, mbd, coupling, flow, flow_material, dem)\n"
+  o << "usage: config_tool --keys [SECTION]   key reference (sections: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond)\n"
        "       config_tool --json CONFIG      the resolved, validated run config as JSON\n";
 }
 
@@ -29,6 +29,8 @@ bool keys(const std::string& only) {
       {"flow", chamber::flow_schema().keys()},
       {"flow_material", chamber::flow_material_schema().keys()},
       {"dem", coupling::chamber_schema().keys()},
+      {"bpm.packing", rocks::packing_schema().keys()},
+      {"bpm.bond", rocks::bond_schema().keys()},
   };
   bool any = false;
   for (const auto& [name, k] : sections) {
@@ -129,7 +131,7 @@ int main(int argc, char** argv) {
   if (a == "--keys" && argc <= 3) {
     const std::string only = argc == 3 ? argv[2] : "";
     if (keys(only)) return 0;
-    std::cerr << "config: no schema section '" << only << "' (accepted: run, mbd, coupling, flow, flow_material, dem)\n";
+    std::cerr << "config: no schema section '" << only << "' (accepted: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond)\n";
     return 2;
   }
   if (a == "--json" && argc == 3) {
