@@ -142,14 +142,14 @@ class Schema {
     e.scale_of = std::move(scale_of);
     return add(std::move(e));
   }
-  // The last key added exists only when `pred` holds on what was read before it; given otherwise, it is refused
-  // with "applies to `what`". Its default text becomes "required (`what`)" when it is required.
-  Schema& applies_if(std::function<bool(const T&)> pred, const std::string& what) {
+  // The last key added exists only when `pred` holds on what was read before it (`when`, for the reference); given
+  // otherwise, it is refused with "applies to `what`". Required, it is required only then.
+  Schema& applies_if(std::function<bool(const T&)> pred, const std::string& what, const std::string& when) {
     auto& e = entries_.back();
     e.applies = std::move(pred);
     e.applies_text = what;
     e.info.applies_to = what;
-    if (e.info.required) e.info.default_text = "required (" + what + ")";
+    if (e.info.required) e.info.default_text = "required if " + when;
     return *this;
   }
   // The mapping at `path` is written in flow style ({a: 1, b: 2}).

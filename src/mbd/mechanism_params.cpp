@@ -141,7 +141,7 @@ const core::Schema<MechanismParams>& mechanism_schema() {
         .number("bed.rebound", "", 1, 0.01, 1.0, [](P& p) -> double& { return p.bed.rebound; },
                 "hysteretic: recovered fraction of each compression", true)
         .applies_if([](const P& p) { return p.bed.law == BedLaw::Hysteretic; },
-                    "law: hysteretic only (this bed is viscous)")
+                    "law: hysteretic only (this bed is viscous)", "law hysteretic")
         .number("bed.modulus_MPa", "MPa", u::MPa, 0.0, 1e4, [](P& p) -> double& { return p.bed.modulus_Pa; },
                 "p = E e^n: E", true)
         .number("bed.exponent", "", 1, 1.0, 4.0, [](P& p) -> double& { return p.bed.exponent; }, "p = E e^n: n", true)
