@@ -39,7 +39,7 @@ def main():
         mr = [v / 1e3 for v in ch["mantle_r_mm"]]
         cz = [v / 1e3 for v in ch["concave_z_mm"]]
         cr = [v / 1e3 for v in ch["concave_r_mm"]]
-    except (OSError, KeyError, TypeError, ValueError, config_yaml.yaml.YAMLError) as e:
+    except (OSError, KeyError, TypeError, ValueError) as e:
         sys.exit(f"bed_profile: {a.config}: no mbd.chamber.{{mantle,concave}}_{{z,r}}_mm ({e})")
     last = None
     with open_bag(a.bag, "bed_profile") as b:

@@ -1,37 +1,22 @@
 #!/usr/bin/env python3
-"""A run config as the nodes read it (core::ConfigNode::load_file): a top-level `base: FILE` (relative to the file)
-is loaded first and the file's keys laid over it; mappings merge key by key, lists and values replace.
-Usage as a module: config_yaml.load(path) -> dict. As a command: config_yaml.py CONFIG [KEY.PATH] prints the
-merged config as JSON, or one value (e.g. run.load)."""
+"""A run config as the nodes read it, through the C++ schema (`crusher config --json`): the `base:` chain applied,
+every key validated (unknown, missing, out of range, duplicate keys refused by name), defaults filled in.
+The tool is $CRUSHER_CONFIG_TOOL (config_tool) when set, else `scripts/crusher config`.
+Usage as a module: config_yaml.load(path) -> dict (ValueError naming the key on a bad config). As a command:
+config_yaml.py CONFIG [KEY.PATH] prints the config as JSON, or one value (e.g. run.load; null when not set)."""
 import json
 import os
+import subprocess
 import sys
 
-import yaml
 
-
-def _merged(base, over):
-    if not isinstance(base, dict) or not isinstance(over, dict):
-        return over
-    out = dict(base)
-    for k, v in over.items():
-        out[k] = _merged(out[k], v) if k in out else v
-    return out
-
-
-def load(path, _depth=0):
-    with open(path) as f:
-        c = yaml.safe_load(f) or {}
-    if not isinstance(c, dict):
-        raise ValueError(f"config {path}: the top level must be a mapping of keys")
-    base = c.pop("base", None)
-    if base is None:
-        return c
-    if _depth >= 8:
-        raise ValueError(f"config {path}: 'base' chains deeper than 8 files (a cycle?)")
-    if not os.path.isabs(base):
-        base = os.path.join(os.path.dirname(path), base)
-    return _merged(load(base, _depth + 1), c)
+def load(path):
+    tool = os.environ.get("CRUSHER_CONFIG_TOOL")
+    cmd = [tool] if tool else ["bash", os.path.join(os.path.dirname(os.path.abspath(__file__)), "crusher"), "config"]
+    r = subprocess.run(cmd + ["--json", path], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if r.returncode != 0:
+        raise ValueError(r.stderr.strip() or f"config {path}: config_tool exited {r.returncode}")
+    return json.loads(r.stdout)
 
 
 def value(config, dotted, default=None):
@@ -44,5 +29,8 @@ def value(config, dotted, default=None):
 
 
 if __name__ == "__main__":
-    c = load(sys.argv[1])
+    try:
+        c = load(sys.argv[1])
+    except ValueError as e:
+        sys.exit(str(e))
     print(json.dumps(value(c, sys.argv[2]) if len(sys.argv) > 2 else c))

@@ -8,75 +8,113 @@
 namespace chamber {
 
 namespace u = core::units;
+using core::ConfigNode;
 
-FlowMaterial flow_material_from_config(const core::ConfigNode& n, const FlowMaterial& base) {
+const core::Schema<FlowMaterial>& flow_material_schema() {
+  using M = FlowMaterial;
+  static const core::Schema<FlowMaterial> s = [] {
+    core::Schema<FlowMaterial> k;
+    k.number("solid_density_kg_m3", "kg/m^3", 1, 500, 20000, [](M& m) -> double& { return m.solid_density; },
+             "density of the solid rock")
+        .number("loose_solid_fraction", "", 1, 0.2, 0.8, [](M& m) -> double& { return m.loose_fraction; },
+                "solid fraction of the loose (poured) bed")
+        .number("pressure.modulus_MPa", "MPa", u::MPa, 0.01, 1e5, [](M& m) -> double& { return m.modulus_Pa; },
+                "virgin loading p = E s^n: E")
+        .number("pressure.exponent", "", 1, 1, 6, [](M& m) -> double& { return m.exponent; },
+                "virgin loading p = E s^n: n")
+        .number("pressure.rebound", "", 1, 0.01, 1, [](M& m) -> double& { return m.rebound; },
+                "recovered fraction of each compression")
+        .number("pressure.max_compression", "", 1, 0.05, 0.8, [](M& m) -> double& { return m.max_compression; },
+                "compaction limit, at most the solid's 1 - loose_solid_fraction")
+        .number("selection.s_c", "", 1, 1e-3, 10, [](M& m) -> double& { return m.breakage.s_c; },
+                "compression at which a class of size x_ref is 63 % selected")
+        .number("selection.exponent", "", 1, 0.1, 10, [](M& m) -> double& { return m.breakage.m; },
+                "selection exponent")
+        .number("selection.size_exponent", "", 1, 0, 5, [](M& m) -> double& { return m.breakage.q; },
+                "size exponent of s_c")
+        .number("selection.x_ref_mm", "mm", u::mm, 0.01, 1000, [](M& m) -> double& { return m.breakage.x_ref; },
+                "reference size of s_c")
+        .number("selection.resolved_mm", "mm", u::mm, 0, 1000, [](M& m) -> double& { return m.breakage.x_resolved; },
+                "smallest size the selection law was measured at (0: it holds at every size)")
+        .number("selection.size_exponent_below", "", 1, 0, 5, [](M& m) -> double& { return m.breakage.q_below; },
+                "size exponent of s_c below resolved_mm (ISRM point-load size effect 0.45)")
+        .number("progeny.phi", "", 1, 0, 1, [](M& m) -> double& { return m.breakage.phi; },
+                "progeny: weight of the fine part")
+        .number("progeny.gamma", "", 1, 0.01, 10, [](M& m) -> double& { return m.breakage.gamma; },
+                "progeny: exponent of the fine part")
+        .number("progeny.beta", "", 1, 0.01, 20, [](M& m) -> double& { return m.breakage.beta; },
+                "progeny: exponent of the coarse part");
+    return k;
+  }();
+  return s;
+}
+
+namespace {
+std::string beside(const std::string& config, const std::string& file) {
+  if (file.empty() || file[0] == '/') return file;
+  const auto slash = config.find_last_of('/');
+  return slash == std::string::npos ? file : config.substr(0, slash + 1) + file;
+}
+}  // namespace
+
+const core::Schema<FlowParams>& flow_schema() {
+  using P = FlowParams;
+  static const core::Schema<FlowParams> s = [] {
+    core::Schema<FlowParams> k;
+    k.text("material_file", [](P& p) -> std::string& { return p.material_file; },
+           "flow_material file (relative to the config); keys under material override it", false,
+           [](const ConfigNode& n, const std::string&, P& p) {
+             p.material = load_flow_material(beside(n.file(), p.material_file));
+           })
+        .load_only()
+        .include<FlowMaterial>("material", flow_material_schema(), [](P& p) -> FlowMaterial& { return p.material; })
+        .integer("bands", 2, 400, [](P& p) -> int& { return p.bands; }, "height bands over the chamber")
+        .integer("sectors", 1, 360, [](P& p) -> int& { return p.sectors; }, "azimuth sectors")
+        .numbers("sieves_mm", "mm", u::mm, 0.01, 1000, [](P& p) -> std::vector<double>& { return p.sieves_m; },
+                 "product sieves, strictly ascending", false,
+                 [](const ConfigNode& n, const std::string& key, P& p) {
+                   for (std::size_t i = 1; i < p.sieves_m.size(); ++i)
+                     if (p.sieves_m[i] <= p.sieves_m[i - 1]) n.fail(key, "sizes must be strictly ascending");
+                   p.feed_passing = default_feed_passing(p.sieves_m);  // on the new sieves, unless given
+                 })
+        .numbers("feed_passing_pct", "%", 0.01, 0, 100, [](P& p) -> std::vector<double>& { return p.feed_passing; },
+                 "feed passing each sieve, not falling (default: -50 mm, (x / 50 mm)^2.5)", false,
+                 [](const ConfigNode& n, const std::string& key, P& p) {
+                   if (p.feed_passing.size() != p.sieves_m.size())
+                     n.fail(key, "must have exactly " + std::to_string(p.sieves_m.size()) + " numbers, has " +
+                                     std::to_string(p.feed_passing.size()));
+                   for (std::size_t i = 1; i < p.feed_passing.size(); ++i)
+                     if (p.feed_passing[i] < p.feed_passing[i - 1]) n.fail(key, "must not fall from sieve to sieve");
+                 })
+        .boolean("prefill", [](P& p) -> bool& { return p.prefill; }, "start with the chamber full of loose feed")
+        .boolean("compaction_memory", [](P& p) -> bool& { return p.compaction_memory; },
+                 "the rock keeps its compaction between pressings (jams the GYP1200's feed opening)");
+    return k;
+  }();
+  return s;
+}
+
+FlowMaterial flow_material_from_config(const ConfigNode& n, const FlowMaterial& base) {
   FlowMaterial m = base;
-  m.solid_density = n.number_or("solid_density_kg_m3", m.solid_density, 500, 20000, "kg/m^3");
-  m.loose_fraction = n.number_or("loose_solid_fraction", m.loose_fraction, 0.2, 0.8, "");
-  if (n.has("pressure")) {
-    auto p = n.child("pressure");
-    m.modulus_Pa = p.number_or("modulus_MPa", m.modulus_Pa / u::MPa, 0.01, 1e5, "MPa", u::MPa);
-    m.exponent = p.number_or("exponent", m.exponent, 1, 6, "");
-    m.rebound = p.number_or("rebound", m.rebound, 0.01, 1, "");
-    m.max_compression = p.number_or("max_compression", m.max_compression, 0.05, 0.8, "");
-  }
-  auto& b = m.breakage;
-  if (n.has("selection")) {
-    auto s = n.child("selection");
-    b.s_c = s.number_or("s_c", b.s_c, 1e-3, 10, "");
-    b.m = s.number_or("exponent", b.m, 0.1, 10, "");
-    b.q = s.number_or("size_exponent", b.q, 0, 5, "");
-    b.x_ref = s.number_or("x_ref_mm", b.x_ref / u::mm, 0.01, 1000, "mm", u::mm);
-    b.x_resolved = s.number_or("resolved_mm", b.x_resolved / u::mm, 0, 1000, "mm", u::mm);
-    b.q_below = s.number_or("size_exponent_below", b.q_below, 0, 5, "");
-  }
-  if (n.has("progeny")) {
-    auto p = n.child("progeny");
-    b.phi = p.number_or("phi", b.phi, 0, 1, "");
-    b.gamma = p.number_or("gamma", b.gamma, 0.01, 10, "");
-    b.beta = p.number_or("beta", b.beta, 0.01, 20, "");
-  }
+  flow_material_schema().read(n, m);
   return m;
 }
 
 FlowMaterial load_flow_material(const std::string& file) {
-  auto root = core::ConfigNode::load_file(file);
+  auto root = ConfigNode::load_file(file);
   FlowMaterial m = flow_material_from_config(root.child("flow_material"));
   root.finish();
   return m;
 }
 
-FlowParams load_flow_params(const core::ConfigNode& f) {
+FlowParams load_flow_params(const ConfigNode& f) {
   FlowParams p;
-  if (f.has("material_file")) {
-    std::string file = f.text("material_file");
-    if (!file.empty() && file[0] != '/') {
-      const auto slash = f.file().find_last_of('/');
-      if (slash != std::string::npos) file = f.file().substr(0, slash + 1) + file;
-    }
-    p.material = load_flow_material(file);
-  }
-  if (f.has("material")) p.material = flow_material_from_config(f.child("material"), p.material);
-  p.bands = f.integer_or("bands", p.bands, 2, 400);
-  p.sectors = f.integer_or("sectors", p.sectors, 1, 360);
-  if (f.has("sieves_mm")) {
-    p.sieves_m = f.numbers("sieves_mm", 0.01, 1000, "mm", u::mm);
-    for (std::size_t i = 1; i < p.sieves_m.size(); ++i)
-      if (p.sieves_m[i] <= p.sieves_m[i - 1]) f.fail("sieves_mm", "sizes must be strictly ascending");
-    p.feed_passing = default_feed_passing(p.sieves_m);  // on the new sieves, unless given below
-  }
-  if (f.has("feed_passing_pct")) {
-    p.feed_passing = f.numbers("feed_passing_pct", 0, 100, "%", 0.01, static_cast<int>(p.sieves_m.size()));
-    for (std::size_t i = 1; i < p.feed_passing.size(); ++i)
-      if (p.feed_passing[i] < p.feed_passing[i - 1]) f.fail("feed_passing_pct", "must not fall from sieve to sieve");
-  }
-  p.prefill = f.boolean_or("prefill", p.prefill);
-  p.compaction_memory = f.boolean_or("compaction_memory", p.compaction_memory);
+  flow_schema().read(f, p);
   return p;
 }
 
 FlowRunConfig load_flow_run_config(const std::string& file) {
-  auto root = core::ConfigNode::load_file(file);
+  auto root = ConfigNode::load_file(file);
   FlowRunConfig c;
   c.mech = mbd::load_mechanism_params(root.child("mbd"));
   c.flow = load_flow_params(root.child_or_empty("flow"));
@@ -88,19 +126,11 @@ FlowRunConfig load_flow_run_config(const std::string& file) {
 }
 
 std::string flow_material_yaml(const FlowMaterial& m) {
-  std::ostringstream y;
-  y.precision(10);
-  const auto& b = m.breakage;
-  y << "flow_material:\n"
-    << "  solid_density_kg_m3: " << m.solid_density << "\n"
-    << "  loose_solid_fraction: " << m.loose_fraction << "\n"
-    << "  pressure: {modulus_MPa: " << m.modulus_Pa / u::MPa << ", exponent: " << m.exponent
-    << ", rebound: " << m.rebound << ", max_compression: " << m.max_compression << "}\n"
-    << "  selection: {s_c: " << b.s_c << ", exponent: " << b.m << ", size_exponent: " << b.q
-    << ", x_ref_mm: " << b.x_ref / u::mm << ", resolved_mm: " << b.x_resolved / u::mm
-    << ", size_exponent_below: " << b.q_below << "}\n"
-    << "  progeny: {phi: " << b.phi << ", gamma: " << b.gamma << ", beta: " << b.beta << "}\n";
-  return y.str();
+  YAML::Node root;
+  root["flow_material"] = flow_material_schema().write(m);
+  YAML::Emitter e;
+  e << root;
+  return std::string(e.c_str()) + "\n";
 }
 
 }  // namespace chamber

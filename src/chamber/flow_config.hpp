@@ -21,11 +21,15 @@
 
 #include "chamber/flow_model.hpp"
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "core/run_config.hpp"
 #include "mbd/mechanism_params.hpp"
 
 namespace chamber {
 
+// The keys of a flow_material mapping and of the `flow:` section (its `material:` is the former).
+const core::Schema<FlowMaterial>& flow_material_schema();
+const core::Schema<FlowParams>& flow_schema();
 // Reads a flow_material mapping over `base` (keys not given keep base's values); the caller runs finish().
 FlowMaterial flow_material_from_config(const core::ConfigNode& node, const FlowMaterial& base = FlowMaterial());
 FlowMaterial load_flow_material(const std::string& file);  // the file's `flow_material:` mapping, finish() checked

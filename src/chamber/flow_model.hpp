@@ -65,6 +65,7 @@ struct FlowParams {
   // is (mbd::bed_hysteretic). true: the rock keeps it until re-poured (mbd::bed_compacted; breakage by the hazard's
   // rise). Not shipped: on the GYP1200 it jams the feed opening (17 t/h at 400 rpm; src/chamber/README.md).
   bool compaction_memory = false;
+  std::string material_file;  // config: flow.material_file as given ("" none); its values are in `material`
   FlowMaterial material;
   FlowParams();
 };

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/chamber_geometry_schema.hpp"
 #include "core/units.hpp"
 
 namespace core {
@@ -170,15 +171,31 @@ void validate_chamber_geometry(const ChamberGeometry& g) {
   check_gap(g, nullptr);
 }
 
+const Schema<ChamberGeometry>& chamber_geometry_schema() {
+  using G = ChamberGeometry;
+  static const Schema<ChamberGeometry> s = [] {
+    Schema<ChamberGeometry> k;
+    k.numbers("mantle_z_mm", "mm", units::mm, -5000, 5000, [](G& g) -> std::vector<double>& { return g.mantle.z; },
+              "mantle profile heights (liner frame, origin O1), strictly monotonic", true)
+        .numbers("mantle_r_mm", "mm", units::mm, 1, 5000, [](G& g) -> std::vector<double>& { return g.mantle.r; },
+                 "mantle radii at those heights", true)
+        .numbers("concave_z_mm", "mm", units::mm, -5000, 5000, [](G& g) -> std::vector<double>& { return g.concave.z; },
+                 "concave profile heights, strictly monotonic", true)
+        .numbers("concave_r_mm", "mm", units::mm, 1, 5000, [](G& g) -> std::vector<double>& { return g.concave.r; },
+                 "concave radii at those heights; the concave encloses the mantle", true,
+                 [](const ConfigNode& node, const std::string&, G& g) {
+                   check_profile(g.mantle, "mantle", "mantle_z_mm", "mantle_r_mm", &node);
+                   check_profile(g.concave, "concave", "concave_z_mm", "concave_r_mm", &node);
+                   check_gap(g, &node);
+                 });
+    return k;
+  }();
+  return s;
+}
+
 ChamberGeometry load_chamber_geometry(const ConfigNode& node) {
   ChamberGeometry g;
-  g.mantle.z = node.numbers("mantle_z_mm", -5000, 5000, "mm", units::mm);
-  g.mantle.r = node.numbers("mantle_r_mm", 1, 5000, "mm", units::mm);
-  g.concave.z = node.numbers("concave_z_mm", -5000, 5000, "mm", units::mm);
-  g.concave.r = node.numbers("concave_r_mm", 1, 5000, "mm", units::mm);
-  check_profile(g.mantle, "mantle", "mantle_z_mm", "mantle_r_mm", &node);
-  check_profile(g.concave, "concave", "concave_z_mm", "concave_r_mm", &node);
-  check_gap(g, &node);
+  chamber_geometry_schema().read(node, g);
   return g;
 }
 

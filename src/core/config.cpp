@@ -1,7 +1,11 @@
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
+
+#include <yaml-cpp/eventhandler.h>
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace core {
@@ -25,7 +29,88 @@ ConfigNode::ConfigNode(YAML::Node node, std::string path, std::string file)
       children_(std::make_shared<std::vector<std::string>>()) {}
 
 namespace {
-// A copy of `over` laid over a copy of `base`: mappings merge key by key (recursively), anything else replaces.
+// Walks the parse events of a YAML text and throws ConfigError at the first key that appears twice in one mapping
+// (yaml-cpp would keep the first silently).
+class DuplicateKeys : public YAML::EventHandler {
+ public:
+  explicit DuplicateKeys(std::string name) : name_(std::move(name)) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { node(m, "~"); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { node(m, "*"); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string& v) override { node(m, v); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    open(m, false);
+  }
+  void OnSequenceEnd() override { close(); }
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    open(m, true);
+  }
+  void OnMapEnd() override { close(); }
+
+ private:
+  struct Frame {
+    bool map;
+    std::string path;
+    bool want_key = true;
+    int index = 0;
+    std::string key;
+    std::map<std::string, int> lines;  // key -> line of its first appearance
+  };
+  std::string child_path() const {  // path of the value now being parsed
+    if (stack_.empty()) return "";
+    const Frame& f = stack_.back();
+    if (!f.map) return f.path + "[" + std::to_string(f.index) + "]";
+    return f.path.empty() ? f.key : f.path + "." + f.key;
+  }
+  void node(const YAML::Mark& m, const std::string& v) {
+    if (!stack_.empty() && stack_.back().map && stack_.back().want_key) {
+      Frame& f = stack_.back();
+      const std::string full = f.path.empty() ? v : f.path + "." + v;
+      auto [it, fresh] = f.lines.emplace(v, m.line + 1);
+      if (!fresh)
+        throw ConfigError("config " + name_ + ": key '" + full + "' appears twice (lines " +
+                          std::to_string(it->second) + " and " + std::to_string(m.line + 1) + ")");
+      f.key = v;
+    }
+    done();
+  }
+  void open(const YAML::Mark&, bool map) {
+    Frame f;
+    f.map = map;
+    f.path = child_path();
+    stack_.push_back(f);
+  }
+  void close() {
+    stack_.pop_back();
+    done();
+  }
+  void done() {  // a whole node (key or value) was parsed in the enclosing collection
+    if (stack_.empty()) return;
+    Frame& f = stack_.back();
+    if (f.map) f.want_key = !f.want_key;
+    else ++f.index;
+  }
+  std::string name_;
+  std::vector<Frame> stack_;
+};
+
+// The text parsed as YAML, refusing duplicate keys by name.
+YAML::Node parse(const std::string& text, const std::string& name) {
+  try {
+    std::istringstream in(text);
+    YAML::Parser parser(in);
+    DuplicateKeys dup(name);
+    while (parser.HandleNextDocument(dup)) {
+    }
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("config " + name + ": not valid YAML: " + e.what());
+  }
+}
+
+}  // namespace
+
 YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
   if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
   YAML::Node out = YAML::Clone(base);
@@ -36,18 +121,14 @@ YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
   return out;
 }
 
+namespace {
 // The file's mapping with its `base:` chain resolved (a base path is relative to the file naming it).
 YAML::Node resolved(const std::string& file, int depth) {
   std::ifstream in(file);
   if (!in) throw ConfigError("config: cannot open '" + file + "'");
   std::stringstream ss;
   ss << in.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(ss.str());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("config " + file + ": not valid YAML: " + e.what());
-  }
+  YAML::Node root = parse(ss.str(), file);
   if (!root.IsMap()) throw ConfigError("config " + file + ": the top level must be a mapping of keys");
   if (!root["base"]) return root;
   if (!root["base"].IsScalar()) throw ConfigError("config " + file + ": key 'base' must be a file name (a config)");
@@ -63,12 +144,7 @@ YAML::Node resolved(const std::string& file, int depth) {
 ConfigNode ConfigNode::load_file(const std::string& file) { return ConfigNode(resolved(file, 0), "", file); }
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("config " + name + ": not valid YAML: " + e.what());
-  }
+  YAML::Node root = parse(text, name);
   if (!root.IsMap()) throw ConfigError("config " + name + ": the top level must be a mapping of keys");
   return ConfigNode(root, "", name);
 }

@@ -6,22 +6,53 @@
 
 namespace core {
 
+const Schema<RunOptions>& run_schema() {
+  using R = RunOptions;
+  static const Schema<RunOptions> s = [] {
+    Schema<RunOptions> k;
+    k.number("duration_s", "s", 1, 1e-3, 3600, [](R& o) -> double& { return o.duration_s; },
+             "simulated time after the start", true)
+        .choice("load", {"none", "bed", "flow", "dem"}, [](R& o) -> std::string& { return o.load; },
+                "the load on the mantle: idle, equivalent bed, chamber flow model, coupled DEM", true)
+        .number("publish_hz", "Hz", 1, 1, 20000, [](R& o) -> double& { return o.publish_hz; },
+                "rate of /crusher/test_point and /crusher/drive")
+        .number("tf_hz", "Hz", 1, 1, 1000, [](R& o) -> double& { return o.tf_hz; },
+                "rate of /tf, the liner markers and the product")
+        .number("settle_s", "s", 1, 0, 3600, [](R& o) -> double& { return o.settle_s; },
+                "start-up left out of summary.json (shorter than duration_s)")
+        .number("warm_start_s", "s", 1, 0, 600, [](R& o) -> double& { return o.warm_start_s; },
+                "the mechanism alone before t = 0 (starts at speed, frame settled)")
+        .number("checkpoint_every_s", "s", 1, 0, 3600, [](R& o) -> double& { return o.checkpoint_every_s; },
+                "coupled runs: both nodes save their state this often (0: never)")
+        .number("coupled.warm_start_s", "s", 1, 0, 600, [](R& o) -> double& { return o.coupled_warm_start_s; },
+                "instead of warm_start_s when the load is dem")
+        .number("coupled.settle_s", "s", 1, 0, 3600, [](R& o) -> double& { return o.coupled_settle_s; },
+                "instead of settle_s when the load is dem");
+    return k;
+  }();
+  return s;
+}
+
+const Schema<CouplingOptions>& coupling_schema() {
+  using C = CouplingOptions;
+  static const Schema<CouplingOptions> s = [] {
+    Schema<CouplingOptions> k;
+    k.number("dt_s", "s", 1, 1e-5, 0.05, [](C& o) -> double& { return o.dt_s; },
+             "MBD-DEM exchange interval, a whole number of mbd.time_step_s")
+        .number("timeout_s", "s", 1, 0.1, 3600, [](C& o) -> double& { return o.timeout_s; },
+                "wall time a silent peer is waited for")
+        .number("first_timeout_s", "s", 1, 0.1, 7200, [](C& o) -> double& { return o.first_timeout_s; },
+                "wall time waited for the peer's first answer (start-up)");
+    return k;
+  }();
+  return s;
+}
+
 RunOptions load_run_options(const ConfigNode& run) {
   RunOptions o;
-  o.duration_s = run.number("duration_s", 1e-3, 3600, "s");
-  o.load = run.choice("load", {"none", "bed", "flow", "dem"});
-  o.publish_hz = run.number_or("publish_hz", o.publish_hz, 1, 20000, "Hz");
-  o.tf_hz = run.number_or("tf_hz", o.tf_hz, 1, 1000, "Hz");
-  o.settle_s = run.number_or("settle_s", o.settle_s, 0, 3600, "s");
-  o.warm_start_s = run.number_or("warm_start_s", o.warm_start_s, 0, 600, "s");
-  o.checkpoint_every_s = run.number_or("checkpoint_every_s", o.checkpoint_every_s, 0, 3600, "s");
+  run_schema().read(run, o);
   if (o.settle_s >= o.duration_s && o.duration_s > 0.5) {
     run.fail("settle_s", "must be shorter than run.duration_s (" + std::to_string(o.duration_s) + " s)");
-  }
-  if (run.has("coupled")) {
-    auto c = run.child("coupled");
-    o.coupled_warm_start_s = c.number_or("warm_start_s", -1, 0, 600, "s");
-    o.coupled_settle_s = c.number_or("settle_s", -1, 0, 3600, "s");
   }
   return o;
 }
@@ -34,9 +65,7 @@ void apply_coupled_overrides(RunOptions& o) {
 
 CouplingOptions load_coupling_options(const ConfigNode& c) {
   CouplingOptions o;
-  o.dt_s = c.number_or("dt_s", o.dt_s, 1e-5, 0.05, "s");
-  o.timeout_s = c.number_or("timeout_s", o.timeout_s, 0.1, 3600, "s");
-  o.first_timeout_s = c.number_or("first_timeout_s", o.first_timeout_s, 0.1, 7200, "s");
+  coupling_schema().read(c, o);
   return o;
 }
 

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 
 namespace core {
 
@@ -24,6 +25,10 @@ struct CouplingOptions {
   double timeout_s = 30.0;    // a silent peer stops the run after this wall time
   double first_timeout_s = 300.0;  // first answer (peer start-up: packing, meshing)
 };
+
+// The keys of `run:` and `coupling:` (config_schema.hpp); the loaders below read through them.
+const Schema<RunOptions>& run_schema();
+const Schema<CouplingOptions>& coupling_schema();
 
 RunOptions load_run_options(const ConfigNode& run);            // the `run:` mapping
 // After any override of `load`: a dem run takes run.coupled's warm_start_s and settle_s where given.

@@ -5,87 +5,118 @@
 namespace coupling {
 
 namespace u = core::units;
+using core::ConfigNode;
 
-ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::ChamberGeometry& chamber,
+const core::Schema<ChamberParams>& chamber_schema() {
+  using P = ChamberParams;
+  static const core::Schema<ChamberParams> s = [] {
+    core::Schema<ChamberParams> k;
+    k.integer("liner_sectors", 12, 720, [](P& p) -> int& { return p.liner_sectors; },
+              "azimuthal facets of both liner meshes")
+        .number("dt_s", "s (0: automatic)", 1, 0, 1e-3, [](P& p) -> double& { return p.dt_s; },
+                "DEM step; 0: 0.8 x the engine's stable bound")
+        .integer("threads", 0, 256, [](P& p) -> int& { return p.threads; }, "OpenMP threads (0: all cores)")
+        .number("discharge_below_mm", "mm", u::mm, 0, 1000, [](P& p) -> double& { return p.discharge_below_m; },
+                "fragments this far below the chamber bottom leave (screened)")
+        .numbers("sieves_mm", "mm", u::mm, 0.01, 1000, [](P& p) -> std::vector<double>& { return p.sieves_m; },
+                 "product sieves, strictly ascending", false,
+                 [](const ConfigNode& n, const std::string& key, P& p) {
+                   for (std::size_t i = 1; i < p.sieves_m.size(); ++i)
+                     if (p.sieves_m[i] <= p.sieves_m[i - 1]) n.fail(key, "sizes must be strictly ascending");
+                 })
+        .integer("force_map_rings", 1, 100, [](P& p) -> int& { return p.rings; }, "concave force map: rings")
+        .integer("force_map_sectors", 1, 100, [](P& p) -> int& { return p.sectors; }, "concave force map: sectors")
+        .number("bookkeeping_s", "s", 1, 1e-5, 0.1, [](P& p) -> double& { return p.bookkeeping_s; },
+                "feed, discharge and fragment update interval")
+        .number("throughput_window_s", "s", 1, 0.01, 100, [](P& p) -> double& { return p.throughput_window_s; },
+                "discharged-mass rate averaged over this window")
+        .integer("tracked_particles", 0, 100, [](P& p) -> int& { return p.tracked_particles; },
+                 "particles whose paths go to trajectories.csv")
+        .boolean("crushing.enabled", [](P& p) -> bool& { return p.crushing.enabled; },
+                 "metaparticles crushed to fines against the liners (default true when crushing: is given)")
+        .number("crushing.tensile_strength_MPa", "MPa", u::MPa, 0.01, 1000,
+                [](P& p) -> double& { return p.crushing.tensile_strength; }, "rock tensile strength sigma_t (Eq. 26)")
+        .number("crushing.progeny_exponent", "", 1, 0.1, 5, [](P& p) -> double& { return p.crushing.progeny_exponent; },
+                "Gaudin-Schuhmann slope of the fines")
+        .number("crushing.batch_s", "s", 1, 0, 0.01, [](P& p) -> double& { return p.crushing.batch_s; },
+                "crushed spheres leave together at this interval")
+        .choice("crushing.criterion", {"contact", "stress"},
+                [](const P& p) { return std::string(p.crushing.stress_criterion ? "stress" : "contact"); },
+                [](P& p, const std::string& v) { p.crushing.stress_criterion = v == "stress"; },
+                "crush on the liner contacts, or on the sphere's whole load")
+        .boolean("crushing.fragments", [](P& p) -> bool& { return p.crushing.fragments; },
+                 "a crushed sphere becomes four fragments (else fines at once)")
+        .number("crushing.min_fragment_mm", "mm", u::mm, 0.1, 1000,
+                [](P& p) -> double& { return p.crushing.min_fragment_m; }, "fragments below this leave as fines")
+        .number("crushing.fragment_growth_s", "s", 1, 0, 1, [](P& p) -> double& { return p.crushing.fragment_growth_s; },
+                "time a fragment takes to grow to the rock's density (0: none)")
+        .number("crushing.reference_size_mm", "mm", u::mm, 1, 10000,
+                [](P& p) -> double& { return p.crushing.reference_size; }, "size at which the strength was measured")
+        .number("crushing.size_exponent", "", 1, 0, 1.5, [](P& p) -> double& { return p.crushing.size_exponent; },
+                "size effect of the strength (0: none)")
+        .boolean("fines_bed.enabled", [](P& p) -> bool& { return p.fines_bed.enabled; },
+                 "crushed fines kept as a bed on the liners (default true when fines_bed: is given)")
+        .integer("fines_bed.bands", 1, 200, [](P& p) -> int& { return p.fines_bed.bands; }, "fines bed: height bands")
+        .integer("fines_bed.sectors", 1, 360, [](P& p) -> int& { return p.fines_bed.sectors; }, "fines bed: sectors")
+        .number("fines_bed.bulk_fraction", "", 1, 0.1, 0.9, [](P& p) -> double& { return p.fines_bed.bulk_fraction; },
+                "solid fraction of loose fines")
+        .number("fines_bed.modulus_MPa", "MPa", u::MPa, 0.01, 1e5, [](P& p) -> double& { return p.fines_bed.modulus_Pa; },
+                "virgin loading p = E e^n: E")
+        .number("fines_bed.exponent", "", 1, 1, 4, [](P& p) -> double& { return p.fines_bed.exponent; },
+                "virgin loading p = E e^n: n")
+        .number("fines_bed.rebound", "", 1, 0.01, 1, [](P& p) -> double& { return p.fines_bed.rebound; },
+                "recovered fraction of each compression")
+        .number("fines_bed.max_strain", "", 1, 0.05, 0.95, [](P& p) -> double& { return p.fines_bed.max_strain; },
+                "compaction limit; fines pressed past it are extruded")
+        .integer("feed.shapes", 1, 16, [](P& p) -> int& { return p.feed.shapes; }, "irregular rock shapes")
+        .number("feed.rock_size_mm", "mm", u::mm, 5, 300, [](P& p) -> double& { return p.feed.rock_size_m; },
+                "feed top size", true)
+        .integer("feed.seed", 0, 2147483647, [](P& p) -> unsigned long long& { return p.feed.seed; },
+                 "random seed of the feed")
+        .number("feed.choke_height_mm", "mm", u::mm, 0, 2000, [](P& p) -> double& { return p.feed.choke_height_m; },
+                "rock kept up to this height above the chamber top")
+        .number("feed.max_rate_kg_s", "kg/s", 1, 0.01, 1e4, [](P& p) -> double& { return p.feed.max_rate_kg_s; },
+                "feeder's upper bound")
+        .number("feed.drop_speed_m_s", "m/s", 1, 0, 20, [](P& p) -> double& { return p.feed.drop_speed_m_s; },
+                "initial downward speed of a fed rock")
+        .number("feed.max_fed_kg", "kg", 1, 0, 1e9, [](P& p) -> double& { return p.feed.max_fed_kg; },
+                "stop feeding after this mass")
+        .boolean("feed.prefill", [](P& p) -> bool& { return p.feed.prefill; },
+                 "the chamber starts full of rock at rest")
+        .number("feed.prefill_max_kg", "kg", 1, 0, 1e9, [](P& p) -> double& { return p.feed.prefill_max_kg; },
+                "prefill at most this mass")
+        .number("feed.rock_density_kg_m3", "kg/m^3", 1, 500, 20000, [](P& p) -> double& { return p.feed.rock_density; },
+                "solid density of the fed rock (unset: the spheres' material density)")
+        .text("bpm_file", [](P& p) -> std::string& { return p.bpm_file; },
+              "calibrated BPM file (relative to the config; else the bpm: mapping, src/rocks/README.md)", false,
+              [](const ConfigNode& n, const std::string& key, P& p) {
+                std::string f = p.bpm_file;
+                const auto slash = n.file().find_last_of('/');
+                if (!f.empty() && f[0] != '/' && slash != std::string::npos) f = n.file().substr(0, slash + 1) + f;
+                try {
+                  p.bpm = rocks::load_bpm_model(f);
+                } catch (const std::exception& e) {
+                  n.fail(key, e.what());
+                }
+              })
+        .load_only();
+    return k;
+  }();
+  return s;
+}
+
+ChamberParams load_chamber_params(const ConfigNode& dem, const core::ChamberGeometry& chamber,
                                   double mantle_com_z_m, double concave_com_z_m) {
   ChamberParams p;
   p.chamber = chamber;
   p.mantle_com_z_m = mantle_com_z_m;
   p.concave_com_z_m = concave_com_z_m;
-  p.liner_sectors = dem.integer_or("liner_sectors", p.liner_sectors, 12, 720);
-  p.dt_s = dem.number_or("dt_s", p.dt_s, 0, 1e-3, "s (0: automatic)");
-  p.threads = dem.integer_or("threads", p.threads, 0, 256);
-  p.discharge_below_m = dem.number_or("discharge_below_mm", p.discharge_below_m / u::mm, 0, 1000, "mm", u::mm);
-  if (dem.has("sieves_mm")) {
-    p.sieves_m = dem.numbers("sieves_mm", 0.01, 1000, "mm", u::mm);
-    for (std::size_t i = 1; i < p.sieves_m.size(); ++i)
-      if (p.sieves_m[i] <= p.sieves_m[i - 1]) dem.fail("sieves_mm", "sizes must be strictly ascending");
-  }
-  p.rings = dem.integer_or("force_map_rings", p.rings, 1, 100);
-  p.sectors = dem.integer_or("force_map_sectors", p.sectors, 1, 100);
-  p.bookkeeping_s = dem.number_or("bookkeeping_s", p.bookkeeping_s, 1e-5, 0.1, "s");
-  p.throughput_window_s = dem.number_or("throughput_window_s", p.throughput_window_s, 0.01, 100, "s");
-  p.tracked_particles = dem.integer_or("tracked_particles", p.tracked_particles, 0, 100);
-
-  if (dem.has("crushing")) {  // metaparticle crushing (coupling/metaparticle_crushing.hpp)
-    auto c = dem.child("crushing");
-    p.crushing.enabled = c.boolean_or("enabled", true);
-    p.crushing.tensile_strength =
-        c.number_or("tensile_strength_MPa", p.crushing.tensile_strength / 1e6, 0.01, 1000, "MPa", 1e6);
-    p.crushing.progeny_exponent = c.number_or("progeny_exponent", p.crushing.progeny_exponent, 0.1, 5, "");
-    p.crushing.batch_s = c.number_or("batch_s", p.crushing.batch_s, 0, 0.01, "s");
-    p.crushing.stress_criterion = c.choice_or("criterion", "contact", {"contact", "stress"}) == "stress";
-    p.crushing.fragments = c.boolean_or("fragments", p.crushing.fragments);
-    p.crushing.min_fragment_m =
-        c.number_or("min_fragment_mm", p.crushing.min_fragment_m / u::mm, 0.1, 1000, "mm", u::mm);
-    p.crushing.fragment_growth_s = c.number_or("fragment_growth_s", p.crushing.fragment_growth_s, 0, 1, "s");
-    p.crushing.reference_size =
-        c.number_or("reference_size_mm", p.crushing.reference_size / u::mm, 1, 10000, "mm", u::mm);
-    p.crushing.size_exponent = c.number_or("size_exponent", p.crushing.size_exponent, 0, 1.5, "");
-  }
-
-  if (dem.has("fines_bed")) {  // retained fines (coupling/fines_bed.hpp)
-    auto c = dem.child("fines_bed");
-    auto& b = p.fines_bed;
-    b.enabled = c.boolean_or("enabled", true);
-    b.bands = c.integer_or("bands", b.bands, 1, 200);
-    b.sectors = c.integer_or("sectors", b.sectors, 1, 360);
-    b.bulk_fraction = c.number_or("bulk_fraction", b.bulk_fraction, 0.1, 0.9, "");
-    b.modulus_Pa = c.number_or("modulus_MPa", b.modulus_Pa / 1e6, 0.01, 1e5, "MPa", 1e6);
-    b.exponent = c.number_or("exponent", b.exponent, 1, 4, "");
-    b.rebound = c.number_or("rebound", b.rebound, 0.01, 1, "");
-    b.max_strain = c.number_or("max_strain", b.max_strain, 0.05, 0.95, "");
-    if (b.enabled && !p.crushing.enabled)
-      c.fail("enabled", "retains the fines of dem.crushing, which is off");
-  }
-
-  auto f = dem.child("feed");
-  p.feed.shapes = f.integer_or("shapes", p.feed.shapes, 1, 16);
-  p.feed.rock_size_m = f.number("rock_size_mm", 5, 300, "mm", u::mm);
-  p.feed.seed = static_cast<unsigned long long>(f.integer_or("seed", 7, 0, 2147483647));
-  p.feed.choke_height_m = f.number_or("choke_height_mm", p.feed.choke_height_m / u::mm, 0, 2000, "mm", u::mm);
-  p.feed.max_rate_kg_s = f.number_or("max_rate_kg_s", p.feed.max_rate_kg_s, 0.01, 1e4, "kg/s");
-  p.feed.drop_speed_m_s = f.number_or("drop_speed_m_s", p.feed.drop_speed_m_s, 0, 20, "m/s");
-  p.feed.max_fed_kg = f.number_or("max_fed_kg", p.feed.max_fed_kg, 0, 1e9, "kg");
-  p.feed.prefill = f.boolean_or("prefill", p.feed.prefill);
-  p.feed.prefill_max_kg = f.number_or("prefill_max_kg", p.feed.prefill_max_kg, 0, 1e9, "kg");
-  if (f.has("rock_density_kg_m3")) p.feed.rock_density = f.number("rock_density_kg_m3", 500, 20000, "kg/m^3");
-
-  if (dem.has("bpm_file")) {
-    std::string f = dem.text("bpm_file");
-    if (!f.empty() && f[0] != '/') {
-      const auto& cfg = dem.file();
-      const auto slash = cfg.find_last_of('/');
-      if (slash != std::string::npos) f = cfg.substr(0, slash + 1) + f;
-    }
-    try {
-      p.bpm = rocks::load_bpm_model(f);
-    } catch (const std::exception& e) {
-      dem.fail("bpm_file", e.what());
-    }
-  } else {
-    p.bpm = rocks::bpm_model_from_config(dem.child("bpm"));
-  }
+  p.crushing.enabled = dem.has("crushing");  // a crushing: or fines_bed: mapping turns it on unless it says not
+  p.fines_bed.enabled = dem.has("fines_bed");
+  chamber_schema().read(dem, p);
+  if (p.fines_bed.enabled && !p.crushing.enabled)
+    dem.child("fines_bed").fail("enabled", "retains the fines of dem.crushing, which is off");
+  if (!dem.has("bpm_file")) p.bpm = rocks::bpm_model_from_config(dem.child("bpm"));
   return p;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/chamber_geometry.hpp"
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "coupling/fines_bed.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "rocks/bpm_config.hpp"
@@ -53,7 +54,11 @@ struct ChamberParams {
   int tracked_particles = 4;          // trajectories of a few particles (section 4.2.2)
   CrushingParams crushing;            // metaparticles crushed to fines against the liners (off: the paper's model)
   FinesBedParams fines_bed;           // crushed fines kept in the chamber as a bed on the liners (off: they leave at once)
+  std::string bpm_file;               // config: dem.bpm_file as given ("" none: the bpm mapping); its model is in bpm
 };
+
+// The keys of the `dem:` section (config_schema.hpp) but `bpm:` (rocks/bpm_config.hpp) and what the mechanism gives.
+const core::Schema<ChamberParams>& chamber_schema();
 
 // Reads the `dem:` mapping; `chamber` and the COM heights come from the mechanism parameters.
 // The BPM is `dem.bpm` (inline, rocks/bpm_config.hpp format) or `dem.bpm_file` (a file such as

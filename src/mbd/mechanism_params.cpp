@@ -1,9 +1,13 @@
 #include "mbd/mechanism_params.hpp"
 
+#include "core/chamber_geometry_schema.hpp"
 #include "core/run_config.hpp"
+#include "mbd/mechanism_schema.hpp"
 
 #include <cmath>
+#include <functional>
 #include <iomanip>
+#include <tuple>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -30,115 +34,162 @@ MechanismParams::MechanismParams() {
 
 namespace {
 
-BodyParams load_body(const core::ConfigNode& n, double mass_lo, double mass_hi, bool with_com) {
-  BodyParams b;
-  b.mass_kg = n.number("mass_kg", mass_lo, mass_hi, "kg");
-  if (with_com) b.com_z_m = n.number("com_z_mm", -10000, 10000, "mm", u::mm);
-  b.inertia_kg_m2 = n.vector3("inertia_kg_m2", 1e-6, 1e7, "kg m^2");
-  return b;
+using P = MechanismParams;
+using S = core::Schema<MechanismParams>;
+template <class V>
+using Ref = std::function<V&(P&)>;
+
+// mass_kg, com_z_mm (if com), inertia_kg_m2 of a body under `name`.
+void body(S& k, const std::string& name, Ref<BodyParams> b, double mass_lo, double mass_hi, bool with_com,
+          const std::string& what) {
+  k.number(name + ".mass_kg", "kg", 1, mass_lo, mass_hi, [b](P& p) -> double& { return b(p).mass_kg; },
+           what + ": mass", true);
+  if (with_com)
+    k.number(name + ".com_z_mm", "mm", u::mm, -10000, 10000, [b](P& p) -> double& { return b(p).com_z_m; },
+             what + ": centre of mass height on the axis", true);
+}
+void inertia(S& k, const std::string& name, Ref<BodyParams> b, const std::string& what) {
+  k.vector3(name + ".inertia_kg_m2", "kg m^2", 1, 1e-6, 1e7, [b](P& p) -> Eigen::Vector3d& { return b(p).inertia_kg_m2; },
+            what + ": principal inertias about the COM", true);
 }
 
 }  // namespace
 
+const core::Schema<MechanismParams>& mechanism_schema() {
+  static const S s = [] {
+    S k;
+    k.number("time_step_s", "s", 1, 1e-6, 5e-3, [](P& p) -> double& { return p.dt_s; },
+             "integration step (bounded by the stiffest element and 0.05 rad of drive per step)", true)
+        .number("gravity_m_s2", "m/s^2", 1, 0.0, 20.0, [](P& p) -> double& { return p.gravity_m_s2; }, "gravity",
+                true)
+        .number("drive.speed_rpm", "rpm", u::rpm, 1.0, 2000.0, [](P& p) -> double& { return p.drive_speed_rad_s; },
+                "drive speed after the ramp", true)
+        .number("drive.ramp_s", "s", 1, 0.0, 60.0, [](P& p) -> double& { return p.drive_ramp_s; },
+                "start-up ramp from rest", true)
+        .number("drive.max_torque_kNm", "kN m", 1e3, 0.1, 1e4, [](P& p) -> double& { return p.drive_max_torque_Nm; },
+                "motor torque limit", true);
+    body(k, "drive", [](P& p) -> BodyParams& { return p.drive_shaft; }, 0.1, 1e4, false, "B6 drive shaft");
+    inertia(k, "drive", [](P& p) -> BodyParams& { return p.drive_shaft; }, "B6 drive shaft");
+    k.number("drive.length_mm", "mm", u::mm, 10, 5000, [](P& p) -> double& { return p.drive_shaft_length_m; },
+             "O7 hinge below O6 (shaft COM at its middle)", true);
+    for (const auto& [name, what, ref] :
+         {std::tuple<std::string, std::string, Ref<BodyParams>>{"fixed_cone", "B1 fixed cone",
+                                                                [](P& p) -> BodyParams& { return p.fixed_cone; }},
+          {"floating_cone", "B2 floating cone", [](P& p) -> BodyParams& { return p.floating_cone; }}}) {
+      body(k, name, ref, 1.0, 1e6, true, what);
+      inertia(k, name, ref, what);
+    }
+    body(k, "vibrator", [](P& p) -> BodyParams& { return p.vibrator; }, 1.0, 1e5, false, "B3 vibrator");
+    inertia(k, "vibrator", [](P& p) -> BodyParams& { return p.vibrator; }, "B3 vibrator");
+    k.number("vibrator.axis_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.vibrator_axis_z_m; },
+             "O3: vibrator centre on the floating-cone axis", true)
+        .number("vibrator.static_moment_kg_m", "kg m", 1, 0.0, 1e4,
+                [](P& p) -> double& { return p.vibrator_static_moment_kg_m; },
+                "mass x eccentricity (at most 0.5 m eccentricity)", true);
+    body(k, "globe_bearing", [](P& p) -> BodyParams& { return p.globe_bearing; }, 0.1, 1e5, false, "B4 globe bearing");
+    inertia(k, "globe_bearing", [](P& p) -> BodyParams& { return p.globe_bearing; }, "B4 globe bearing");
+    k.number("globe_bearing.joint_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.globe_bearing_z_m; },
+             "O2, below O1 and above O3", true);
+    body(k, "connecting_shaft", [](P& p) -> BodyParams& { return p.connecting_shaft; }, 0.1, 1e5, false,
+         "B5 connecting shaft");
+    inertia(k, "connecting_shaft", [](P& p) -> BodyParams& { return p.connecting_shaft; }, "B5 connecting shaft");
+    k.number("connecting_shaft.ball_pin_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.ball_pin_z_m; },
+             "O5 on the vibrator axis", true)
+        .number("connecting_shaft.universal_z_mm", "mm", u::mm, -10000, 0,
+                [](P& p) -> double& { return p.universal_z_m; }, "O6 on the crusher axis", true)
+        .vector3("absorbers.stiffness_N_per_mm", "N/mm", u::N_per_mm, 1e-3, 1e7,
+                 [](P& p) -> Eigen::Vector3d& { return p.absorber_k_N_per_m; }, "rubber absorbers, total k_x k_y k_z",
+                 true)
+        .vector3("absorbers.damping_Ns_per_mm", "N s/mm", u::Ns_per_mm, 0.0, 1e6,
+                 [](P& p) -> Eigen::Vector3d& { return p.absorber_c_Ns_per_m; }, "rubber absorbers, total c_x c_y c_z",
+                 true)
+        .number("absorbers.ring_radius_mm", "mm", u::mm, 10, 10000, [](P& p) -> double& { return p.absorber_ring_radius_m; },
+                "ring of the absorbers (tilt and twist stiffness)", true)
+        .vector3("test_point_mm", "mm", u::mm, -10000, 10000, [](P& p) -> Eigen::Vector3d& { return p.test_point_m; },
+                 "test point on the fixed cone (world, at rest)", true)
+        // Table 1 is in the kg-s-mm-N system: F[N] = k d[mm]^h1 + c |v[mm/s]|^h2 d[mm]^h3.
+        .number_scaled("contact.stiffness_N_per_mm", "N/mm^h1",
+                       [](const P& p) { return u::power_law_stiffness_to_si(1.0, p.contact.h1); }, 1.0, 1e9,
+                       [](P& p) -> double& { return p.contact.k; }, "Eq. 11 stiffness k (SI: k 1000^h1)", true)
+        .number("contact.stiffness_exponent", "", 1, 1.0, 3.0, [](P& p) -> double& { return p.contact.h1; },
+                "Eq. 11 h1", true)
+        .number_scaled("contact.damping_Ns_per_mm", "N s/mm (kg-s-mm units)",
+                       [](const P& p) { return std::pow(1e3, p.contact.h2 + p.contact.h3); }, 0.0, 1e7,
+                       [](P& p) -> double& { return p.contact.c; }, "Eq. 11 damping c (SI: c 1000^(h2+h3))", true)
+        .number("contact.damping_exponent", "", 1, 0.5, 3.0, [](P& p) -> double& { return p.contact.h2; },
+                "Eq. 11 h2", true)
+        .number("contact.indentation_exponent", "", 1, 0.0, 3.0, [](P& p) -> double& { return p.contact.h3; },
+                "Eq. 11 h3", true)
+        .number("contact.mu_static", "", 1, 0.0, 2.0, [](P& p) -> double& { return p.contact.mu_s; },
+                "Eq. 14 static threshold coefficient", true)
+        .number("contact.mu_dynamic", "", 1, 0.0, 2.0, [](P& p) -> double& { return p.contact.mu_d; },
+                "Eq. 14 dynamic threshold coefficient (<= mu_static)", true)
+        .number("contact.v_static_mm_s", "mm/s", u::mm_per_s, 1e-3, 1e4, [](P& p) -> double& { return p.contact.v_s; },
+                "Eq. 14 static threshold velocity", true)
+        .number("contact.v_dynamic_mm_s", "mm/s", u::mm_per_s, 1e-3, 1e5, [](P& p) -> double& { return p.contact.v_d; },
+                "Eq. 14 dynamic threshold velocity (> v_static)", true)
+        .include<core::ChamberGeometry>("chamber", core::chamber_geometry_schema(),
+                                        [](P& p) -> core::ChamberGeometry& { return p.chamber; })
+        .integer("chamber.azimuth_samples", 8, 720, [](P& p) -> int& { return p.sampling.azimuth; },
+                 "samples around the circumference (contact and bed)", true)
+        .integer("chamber.generator_samples", 2, 100, [](P& p) -> int& { return p.sampling.generator; },
+                 "samples along the mantle generator", true)
+        .choice("bed.law", {"viscous", "hysteretic"},
+                [](const P& p) { return std::string(p.bed.law == BedLaw::Hysteretic ? "hysteretic" : "viscous"); },
+                [](P& p, const std::string& v) { p.bed.law = v == "hysteretic" ? BedLaw::Hysteretic : BedLaw::Viscous; },
+                "equivalent bed law")
+        .number("bed.rebound", "", 1, 0.01, 1.0, [](P& p) -> double& { return p.bed.rebound; },
+                "hysteretic: recovered fraction of each compression", true)
+        .applies_if([](const P& p) { return p.bed.law == BedLaw::Hysteretic; },
+                    "law: hysteretic only (this bed is viscous)", "law hysteretic")
+        .number("bed.modulus_MPa", "MPa", u::MPa, 0.0, 1e4, [](P& p) -> double& { return p.bed.modulus_Pa; },
+                "p = E e^n: E", true)
+        .number("bed.exponent", "", 1, 1.0, 4.0, [](P& p) -> double& { return p.bed.exponent; }, "p = E e^n: n", true)
+        .number("bed.engage_ratio", "", 1, 0.1, 1.5, [](P& p) -> double& { return p.bed.engage_ratio; },
+                "the bed fills this fraction of the rest gap", true)
+        .number("bed.viscosity_kPa_s", "kPa s", 1e3, 0.0, 1e6, [](P& p) -> double& { return p.bed.viscosity_Pa_s; },
+                "viscous bed: loss per unit strain rate", true)
+        .number("bed.friction", "", 1, 0.0, 2.0, [](P& p) -> double& { return p.bed.friction; },
+                "bed-on-mantle friction coefficient", true)
+        .number("bed.v_static_mm_s", "mm/s", u::mm_per_s, 1e-2, 1e4, [](P& p) -> double& { return p.bed.v_s; },
+                "bed friction: stick below", true)
+        .number("bed.v_dynamic_mm_s", "mm/s", u::mm_per_s, 1e-2, 1e5, [](P& p) -> double& { return p.bed.v_d; },
+                "bed friction: slip above (> v_static)", true)
+        .boolean("effects.joint_friction.enabled", [](P& p) -> bool& { return p.effects.joint_friction.enabled; },
+                 "friction torque in O1 and O3")
+        .number("effects.joint_friction.coulomb_Nm", "N m", 1, 0.0, 1e5,
+                [](P& p) -> double& { return p.effects.joint_friction.coulomb_Nm; }, "Coulomb torque")
+        .number("effects.joint_friction.viscous_Nms", "N m s", 1, 0.0, 1e5,
+                [](P& p) -> double& { return p.effects.joint_friction.viscous_Nms; }, "viscous torque per rad/s")
+        .boolean("effects.absorber_nonlinearity.enabled",
+                 [](P& p) -> bool& { return p.effects.absorber_nonlinearity.enabled; }, "F = k1 d + k3 d^3 (+ hysteresis)")
+        .number("effects.absorber_nonlinearity.cubic_N_per_m3", "N/m^3", 1, -1e14, 1e14,
+                [](P& p) -> double& { return p.effects.absorber_nonlinearity.cubic_N_per_m3; }, "k3")
+        .number("effects.absorber_nonlinearity.hysteresis", "", 1, 0.0, 2.0,
+                [](P& p) -> double& { return p.effects.absorber_nonlinearity.hysteresis; }, "loss factor eta")
+        .boolean("effects.motor_droop.enabled", [](P& p) -> bool& { return p.effects.motor_droop.enabled; },
+                 "drive speed = w0 - droop x torque")
+        .number("effects.motor_droop.droop_rad_s_per_kNm", "rad/s per kN m", 1e-3, 0.0, 100.0,
+                [](P& p) -> double& { return p.effects.motor_droop.droop_rad_s_per_Nm; }, "droop")
+        .boolean("effects.cardan_misalignment.enabled",
+                 [](P& p) -> bool& { return p.effects.cardan_misalignment.enabled; }, "drive shaft tilted about O6")
+        .number("effects.cardan_misalignment.angle_deg", "deg", u::deg, 0.0, 40.0,
+                [](P& p) -> double& { return p.effects.cardan_misalignment.angle_rad; }, "tilt angle");
+    for (const char* e : {"joint_friction", "absorber_nonlinearity", "motor_droop", "cardan_misalignment"})
+      k.flow_style(std::string("effects.") + e);
+    return k;
+  }();
+  return s;
+}
+
 MechanismParams load_mechanism_params(const core::ConfigNode& m) {
   MechanismParams p;
-  p.dt_s = m.number("time_step_s", 1e-6, 5e-3, "s");
-  p.gravity_m_s2 = m.number("gravity_m_s2", 0.0, 20.0, "m/s^2");
-
-  const auto drive = m.child("drive");
-  p.drive_speed_rad_s = drive.number("speed_rpm", 1.0, 2000.0, "rpm", u::rpm);
-  p.drive_ramp_s = drive.number("ramp_s", 0.0, 60.0, "s");
-  p.drive_max_torque_Nm = drive.number("max_torque_kNm", 0.1, 1e4, "kN m", 1e3);
-  p.drive_shaft = load_body(drive, 0.1, 1e4, false);
-  p.drive_shaft_length_m = drive.number("length_mm", 10, 5000, "mm", u::mm);
-
-  p.fixed_cone = load_body(m.child("fixed_cone"), 1.0, 1e6, true);
-  p.floating_cone = load_body(m.child("floating_cone"), 1.0, 1e6, true);
-
-  const auto vib = m.child("vibrator");
-  p.vibrator.mass_kg = vib.number("mass_kg", 1.0, 1e5, "kg");
-  p.vibrator.inertia_kg_m2 = vib.vector3("inertia_kg_m2", 1e-6, 1e7, "kg m^2");
-  p.vibrator_axis_z_m = vib.number("axis_z_mm", -10000, 0, "mm", u::mm);
-  p.vibrator_static_moment_kg_m = vib.number("static_moment_kg_m", 0.0, 1e4, "kg m");
+  mechanism_schema().read(m, p);
+  // Heights the joints fix (not keys of their own).
   p.vibrator.com_z_m = p.vibrator_axis_z_m;
-
-  const auto gb = m.child("globe_bearing");
-  p.globe_bearing.mass_kg = gb.number("mass_kg", 0.1, 1e5, "kg");
-  p.globe_bearing.inertia_kg_m2 = gb.vector3("inertia_kg_m2", 1e-6, 1e7, "kg m^2");
-  p.globe_bearing_z_m = gb.number("joint_z_mm", -10000, 0, "mm", u::mm);
   p.globe_bearing.com_z_m = p.globe_bearing_z_m;
-
-  const auto cs = m.child("connecting_shaft");
-  p.connecting_shaft.mass_kg = cs.number("mass_kg", 0.1, 1e5, "kg");
-  p.connecting_shaft.inertia_kg_m2 = cs.vector3("inertia_kg_m2", 1e-6, 1e7, "kg m^2");
-  p.ball_pin_z_m = cs.number("ball_pin_z_mm", -10000, 0, "mm", u::mm);
-  p.universal_z_m = cs.number("universal_z_mm", -10000, 0, "mm", u::mm);
   p.connecting_shaft.com_z_m = 0.5 * (p.ball_pin_z_m + p.universal_z_m);
   p.drive_shaft.com_z_m = p.universal_z_m - 0.5 * p.drive_shaft_length_m;
-
-  const auto ab = m.child("absorbers");
-  p.absorber_k_N_per_m = ab.vector3("stiffness_N_per_mm", 1e-3, 1e7, "N/mm", u::N_per_mm);
-  p.absorber_c_Ns_per_m = ab.vector3("damping_Ns_per_mm", 0.0, 1e6, "N s/mm", u::Ns_per_mm);
-  p.absorber_ring_radius_m = ab.number("ring_radius_mm", 10, 10000, "mm", u::mm);
-
-  p.test_point_m = m.vector3("test_point_mm", -10000, 10000, "mm", u::mm);
-
-  const auto c = m.child("contact");
-  p.contact.h1 = c.number("stiffness_exponent", 1.0, 3.0);
-  p.contact.h2 = c.number("damping_exponent", 0.5, 3.0);
-  p.contact.h3 = c.number("indentation_exponent", 0.0, 3.0);
-  // Table 1 is in the kg-s-mm-N system: F[N] = k d[mm]^h1 + c |v[mm/s]|^h2 d[mm]^h3.
-  p.contact.k = u::power_law_stiffness_to_si(c.number("stiffness_N_per_mm", 1.0, 1e9, "N/mm^h1"), p.contact.h1);
-  p.contact.c = c.number("damping_Ns_per_mm", 0.0, 1e7, "N s/mm (kg-s-mm units)") *
-                std::pow(1e3, p.contact.h2 + p.contact.h3);
-  p.contact.mu_s = c.number("mu_static", 0.0, 2.0);
-  p.contact.mu_d = c.number("mu_dynamic", 0.0, 2.0);
-  p.contact.v_s = c.number("v_static_mm_s", 1e-3, 1e4, "mm/s", u::mm_per_s);
-  p.contact.v_d = c.number("v_dynamic_mm_s", 1e-3, 1e5, "mm/s", u::mm_per_s);
-
-  const auto ch = m.child("chamber");
-  p.chamber = core::load_chamber_geometry(ch);
-  p.sampling.azimuth = ch.integer("azimuth_samples", 8, 720);
-  p.sampling.generator = ch.integer("generator_samples", 2, 100);
-
-  const auto b = m.child("bed");
-  p.bed.law = b.choice_or("law", "viscous", {"viscous", "hysteretic"}) == "hysteretic" ? BedLaw::Hysteretic
-                                                                                     : BedLaw::Viscous;
-  if (p.bed.law == BedLaw::Hysteretic)
-    p.bed.rebound = b.number("rebound", 0.01, 1.0);
-  else if (b.has("rebound"))
-    b.fail("rebound", "applies to law: hysteretic only (this bed is viscous)");
-  p.bed.modulus_Pa = b.number("modulus_MPa", 0.0, 1e4, "MPa", u::MPa);
-  p.bed.exponent = b.number("exponent", 1.0, 4.0);
-  p.bed.engage_ratio = b.number("engage_ratio", 0.1, 1.5);
-  p.bed.viscosity_Pa_s = b.number("viscosity_kPa_s", 0.0, 1e6, "kPa s", 1e3);
-  p.bed.friction = b.number("friction", 0.0, 2.0);
-  p.bed.v_s = b.number("v_static_mm_s", 1e-2, 1e4, "mm/s", u::mm_per_s);
-  p.bed.v_d = b.number("v_dynamic_mm_s", 1e-2, 1e5, "mm/s", u::mm_per_s);
-
-  const auto fx = m.child_or_empty("effects");
-  {
-    const auto e = fx.child_or_empty("joint_friction");
-    p.effects.joint_friction.enabled = e.boolean_or("enabled", false);
-    p.effects.joint_friction.coulomb_Nm = e.number_or("coulomb_Nm", 0.0, 0.0, 1e5, "N m");
-    p.effects.joint_friction.viscous_Nms = e.number_or("viscous_Nms", 0.0, 0.0, 1e5, "N m s");
-  }
-  {
-    const auto e = fx.child_or_empty("absorber_nonlinearity");
-    p.effects.absorber_nonlinearity.enabled = e.boolean_or("enabled", false);
-    p.effects.absorber_nonlinearity.cubic_N_per_m3 = e.number_or("cubic_N_per_m3", 0.0, -1e14, 1e14, "N/m^3");
-    p.effects.absorber_nonlinearity.hysteresis = e.number_or("hysteresis", 0.0, 0.0, 2.0);
-  }
-  {
-    const auto e = fx.child_or_empty("motor_droop");
-    p.effects.motor_droop.enabled = e.boolean_or("enabled", false);
-    p.effects.motor_droop.droop_rad_s_per_Nm = e.number_or("droop_rad_s_per_kNm", 0.0, 0.0, 100.0, "rad/s per kN m", 1e-3);
-  }
-  {
-    const auto e = fx.child_or_empty("cardan_misalignment");
-    p.effects.cardan_misalignment.enabled = e.boolean_or("enabled", false);
-    p.effects.cardan_misalignment.angle_rad = e.number_or("angle_deg", 0.0, 0.0, 40.0, "deg", u::deg);
-  }
   validate(p, false);  // the bed's step bound is checked where the load is known (Mechanism, mbd_node)
   return p;
 }
@@ -288,100 +339,12 @@ void validate(const MechanismParams& p, bool with_bed) {
   }
 }
 
-namespace {
-std::string v3(const Eigen::Vector3d& v, double scale = 1.0) {
-  std::ostringstream s;
-  s << std::setprecision(12) << "[" << v[0] * scale << ", " << v[1] * scale << ", " << v[2] * scale << "]";
-  return s.str();
-}
-std::string list(const std::vector<double>& v, double scale) {
-  std::ostringstream s;
-  s << std::setprecision(12) << "[";
-  for (std::size_t i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i] * scale;
-  s << "]";
-  return s.str();
-}
-}  // namespace
-
 std::string to_yaml(const MechanismParams& p) {
-  std::ostringstream y;
-  y << std::setprecision(12);
-  const auto& e = p.effects;
-  y << "mbd:\n"
-    << "  time_step_s: " << p.dt_s << "\n"
-    << "  gravity_m_s2: " << p.gravity_m_s2 << "\n"
-    << "  drive:\n"
-    << "    speed_rpm: " << p.drive_speed_rad_s / u::rpm << "\n"
-    << "    ramp_s: " << p.drive_ramp_s << "\n"
-    << "    max_torque_kNm: " << p.drive_max_torque_Nm / 1e3 << "\n"
-    << "    mass_kg: " << p.drive_shaft.mass_kg << "\n"
-    << "    inertia_kg_m2: " << v3(p.drive_shaft.inertia_kg_m2) << "\n"
-    << "    length_mm: " << p.drive_shaft_length_m * 1e3 << "\n";
-  auto body = [&](const char* name, const BodyParams& b) {
-    y << "  " << name << ":\n"
-      << "    mass_kg: " << b.mass_kg << "\n"
-      << "    com_z_mm: " << b.com_z_m * 1e3 << "\n"
-      << "    inertia_kg_m2: " << v3(b.inertia_kg_m2) << "\n";
-  };
-  body("fixed_cone", p.fixed_cone);
-  body("floating_cone", p.floating_cone);
-  y << "  vibrator:\n"
-    << "    mass_kg: " << p.vibrator.mass_kg << "\n"
-    << "    inertia_kg_m2: " << v3(p.vibrator.inertia_kg_m2) << "\n"
-    << "    axis_z_mm: " << p.vibrator_axis_z_m * 1e3 << "\n"
-    << "    static_moment_kg_m: " << p.vibrator_static_moment_kg_m << "\n"
-    << "  globe_bearing:\n"
-    << "    mass_kg: " << p.globe_bearing.mass_kg << "\n"
-    << "    inertia_kg_m2: " << v3(p.globe_bearing.inertia_kg_m2) << "\n"
-    << "    joint_z_mm: " << p.globe_bearing_z_m * 1e3 << "\n"
-    << "  connecting_shaft:\n"
-    << "    mass_kg: " << p.connecting_shaft.mass_kg << "\n"
-    << "    inertia_kg_m2: " << v3(p.connecting_shaft.inertia_kg_m2) << "\n"
-    << "    ball_pin_z_mm: " << p.ball_pin_z_m * 1e3 << "\n"
-    << "    universal_z_mm: " << p.universal_z_m * 1e3 << "\n"
-    << "  absorbers:\n"
-    << "    stiffness_N_per_mm: " << v3(p.absorber_k_N_per_m, 1e-3) << "\n"
-    << "    damping_Ns_per_mm: " << v3(p.absorber_c_Ns_per_m, 1e-3) << "\n"
-    << "    ring_radius_mm: " << p.absorber_ring_radius_m * 1e3 << "\n"
-    << "  test_point_mm: " << v3(p.test_point_m, 1e3) << "\n"
-    << "  contact:\n"
-    << "    stiffness_N_per_mm: " << p.contact.k / std::pow(1e3, p.contact.h1) << "\n"
-    << "    stiffness_exponent: " << p.contact.h1 << "\n"
-    << "    damping_Ns_per_mm: " << p.contact.c / std::pow(1e3, p.contact.h2 + p.contact.h3) << "\n"
-    << "    damping_exponent: " << p.contact.h2 << "\n"
-    << "    indentation_exponent: " << p.contact.h3 << "\n"
-    << "    mu_static: " << p.contact.mu_s << "\n"
-    << "    mu_dynamic: " << p.contact.mu_d << "\n"
-    << "    v_static_mm_s: " << p.contact.v_s * 1e3 << "\n"
-    << "    v_dynamic_mm_s: " << p.contact.v_d * 1e3 << "\n"
-    << "  chamber:\n"
-    << "    mantle_z_mm: " << list(p.chamber.mantle.z, 1e3) << "\n"
-    << "    mantle_r_mm: " << list(p.chamber.mantle.r, 1e3) << "\n"
-    << "    concave_z_mm: " << list(p.chamber.concave.z, 1e3) << "\n"
-    << "    concave_r_mm: " << list(p.chamber.concave.r, 1e3) << "\n"
-    << "    azimuth_samples: " << p.sampling.azimuth << "\n"
-    << "    generator_samples: " << p.sampling.generator << "\n"
-    << "  bed:\n"
-    << "    law: " << (p.bed.law == BedLaw::Hysteretic ? "hysteretic" : "viscous") << "\n"
-    << (p.bed.law == BedLaw::Hysteretic ? "    rebound: " + std::to_string(p.bed.rebound) + "\n" : std::string())
-    << "    modulus_MPa: " << p.bed.modulus_Pa / 1e6 << "\n"
-    << "    exponent: " << p.bed.exponent << "\n"
-    << "    engage_ratio: " << p.bed.engage_ratio << "\n"
-    << "    viscosity_kPa_s: " << p.bed.viscosity_Pa_s / 1e3 << "\n"
-    << "    friction: " << p.bed.friction << "\n"
-    << "    v_static_mm_s: " << p.bed.v_s * 1e3 << "\n"
-    << "    v_dynamic_mm_s: " << p.bed.v_d * 1e3 << "\n"
-    << "  effects:\n"
-    << "    joint_friction: {enabled: " << (e.joint_friction.enabled ? "true" : "false")
-    << ", coulomb_Nm: " << e.joint_friction.coulomb_Nm << ", viscous_Nms: " << e.joint_friction.viscous_Nms << "}\n"
-    << "    absorber_nonlinearity: {enabled: " << (e.absorber_nonlinearity.enabled ? "true" : "false")
-    << ", cubic_N_per_m3: " << e.absorber_nonlinearity.cubic_N_per_m3
-    << ", hysteresis: " << e.absorber_nonlinearity.hysteresis << "}\n"
-    << "    motor_droop: {enabled: " << (e.motor_droop.enabled ? "true" : "false")
-    << ", droop_rad_s_per_kNm: " << e.motor_droop.droop_rad_s_per_Nm * 1e3 << "}\n"
-    << "    cardan_misalignment: {enabled: " << (e.cardan_misalignment.enabled ? "true" : "false")
-    << ", angle_deg: " << e.cardan_misalignment.angle_rad / u::deg << "}\n";
-  return y.str();
+  YAML::Node root;
+  root["mbd"] = mechanism_schema().write(p);
+  YAML::Emitter e;
+  e << root;
+  return std::string(e.c_str()) + "\n";
 }
 
 MechanismParams load_mechanism_params_file(const std::string& path) {

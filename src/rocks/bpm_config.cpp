@@ -21,23 +21,52 @@ dem::BondParams BondSettings::params() const {
   return p;
 }
 
+const core::Schema<BondSettings>& bond_schema() {
+  using B = BondSettings;
+  static const core::Schema<BondSettings> s = [] {
+    core::Schema<BondSettings> k;
+    k.number("normal_stiffness_GPa_per_m", "GPa/m", GPa_per_m, 1.0, 1e5, [](B& b) -> double& { return b.kn; },
+             "bond normal stiffness k_bn (Eq. 21)", true)
+        .number("shear_stiffness_GPa_per_m", "GPa/m", GPa_per_m, 1.0, 1e5, [](B& b) -> double& { return b.kt; },
+                "bond shear stiffness k_bt", true)
+        .number("normal_strength_MPa", "MPa", MPa, 0.01, 1e4, [](B& b) -> double& { return b.sigma_c; },
+                "bond normal strength sigma_bc (Eq. 24)", true)
+        .number("shear_strength_MPa", "MPa", MPa, 0.01, 1e4, [](B& b) -> double& { return b.tau_c; },
+                "bond shear strength tau_bc", true)
+        .number("bond_disk_radius_mm", "mm", mm, 0.01, 100.0, [](B& b) -> double& { return b.disk_radius; },
+                "bond disk radius of a reference-size pair (Eq. 20)", true)
+        .number("reference_radius_mm", "mm", mm, 0.01, 100.0, [](B& b) -> double& { return b.reference_radius; },
+                "particle radius that gets the full disk radius", true)
+        .number("damping", "", 1, 0.0, 1.0, [](B& b) -> double& { return b.damping; },
+                "bond damping, ratio of critical (0: undamped, Eq. 22)");
+    return k;
+  }();
+  return s;
+}
+
+const core::Schema<PackingOptions>& packing_schema() {
+  using O = PackingOptions;
+  static const core::Schema<PackingOptions> s = [] {
+    core::Schema<PackingOptions> k;
+    k.number("density", "", 1, 0.3, 0.70, [](O& o) -> double& { return o.density; },
+             "solid fraction the packing reaches", true)
+        .integer("seed", 0, 2000000000L, [](O& o) -> unsigned long long& { return o.seed; }, "packing seed", true)
+        .number("bond_gap_ratio", "", 1, 0.0, 0.5, [](O& o) -> double& { return o.bond_gap_ratio; },
+                "pairs with a surface gap up to this x the smaller radius are bonded", true);
+    return k;
+  }();
+  return s;
+}
+
 BondSettings bond_settings_from_config(const core::ConfigNode& b) {
   BondSettings s;
-  s.kn = b.number("normal_stiffness_GPa_per_m", 1.0, 1e5, "GPa/m", GPa_per_m);
-  s.kt = b.number("shear_stiffness_GPa_per_m", 1.0, 1e5, "GPa/m", GPa_per_m);
-  s.sigma_c = b.number("normal_strength_MPa", 0.01, 1e4, "MPa", MPa);
-  s.tau_c = b.number("shear_strength_MPa", 0.01, 1e4, "MPa", MPa);
-  s.disk_radius = b.number("bond_disk_radius_mm", 0.01, 100.0, "mm", mm);
-  s.reference_radius = b.number("reference_radius_mm", 0.01, 100.0, "mm", mm);
-  s.damping = b.number_or("damping", 0.0, 0.0, 1.0, "");
+  bond_schema().read(b, s);
   return s;
 }
 
 PackingOptions packing_from_config(const core::ConfigNode& p) {
   PackingOptions o;
-  o.density = p.number("density", 0.3, 0.70, "");
-  o.seed = static_cast<unsigned long long>(p.integer("seed", 0, 2000000000L));
-  o.bond_gap_ratio = p.number("bond_gap_ratio", 0.0, 0.5, "");
+  packing_schema().read(p, o);
   return o;
 }
 
@@ -66,20 +95,17 @@ BpmModel load_bpm_model(const std::string& file) {
 }
 
 std::string bpm_model_yaml(const BpmModel& m, int indent) {
+  YAML::Node bpm;
+  bpm["packing"] = packing_schema().write(m.packing);
+  bpm["packing"].SetStyle(YAML::EmitterStyle::Flow);
+  bpm["bond"] = bond_schema().write(m.bond);
+  YAML::Emitter e;
+  e << bpm;
   const std::string s(indent, ' ');
   std::ostringstream o;
-  o.precision(10);
   o << s << "metaparticles: " << m.metaparticles_yaml << "\n";
-  o << s << "packing: {density: " << m.packing.density << ", seed: " << m.packing.seed
-    << ", bond_gap_ratio: " << m.packing.bond_gap_ratio << "}\n";
-  o << s << "bond:\n";
-  o << s << "  normal_stiffness_GPa_per_m: " << m.bond.kn / GPa_per_m << "\n";
-  o << s << "  shear_stiffness_GPa_per_m: " << m.bond.kt / GPa_per_m << "\n";
-  o << s << "  normal_strength_MPa: " << m.bond.sigma_c / MPa << "\n";
-  o << s << "  shear_strength_MPa: " << m.bond.tau_c / MPa << "\n";
-  o << s << "  bond_disk_radius_mm: " << m.bond.disk_radius / mm << "\n";
-  o << s << "  reference_radius_mm: " << m.bond.reference_radius / mm << "\n";
-  o << s << "  damping: " << m.bond.damping << "\n";
+  std::istringstream lines(e.c_str());
+  for (std::string l; std::getline(lines, l);) o << s << l << "\n";
   return o.str();
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "dem/bonds.hpp"
 #include "rocks/packing.hpp"
 #include "rocks/size_distribution.hpp"
@@ -38,6 +39,9 @@ struct BpmModel {
   BondSettings bond;
 };
 
+// The keys of bpm.bond and bpm.packing (core/config_schema.hpp); bpm.metaparticles is SizeDistribution's.
+const core::Schema<BondSettings>& bond_schema();
+const core::Schema<PackingOptions>& packing_schema();
 BondSettings bond_settings_from_config(const core::ConfigNode& bond);
 PackingOptions packing_from_config(const core::ConfigNode& packing);
 // Reads a "bpm" mapping (e.g. embedded in a dem_node config); the caller runs finish().

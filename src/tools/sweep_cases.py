@@ -12,7 +12,8 @@ import re
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
-import config_yaml  # noqa: E402  (the loader's merge rules: base first, mappings key by key)
+import config_yaml  # noqa: E402  (the config as the nodes read it: crusher config --json)
+import yaml  # noqa: E402
 
 SPEED = "mbd.drive.speed_rpm"
 TIME_STEP = "mbd.time_step_s"
@@ -158,4 +159,4 @@ def case_config(config_path, config, varied):
 
 def case_text(tree, lines):
     """case.yaml's text: the explanation as comments, then the keys."""
-    return "".join(f"# {line}\n" for line in lines) + config_yaml.yaml.safe_dump(tree, sort_keys=False)
+    return "".join(f"# {line}\n" for line in lines) + yaml.safe_dump(tree, sort_keys=False)

@@ -276,13 +276,21 @@ TEST(FinesBed, ChamberKeepsCrushedFinesAndBalancesItsMass) {
 
 // dem.fines_bed is read with its units and ranges, and refused without the crushing whose fines it keeps.
 TEST(FinesBed, ConfigReadsTheBedAndNamesWhatIsWrong) {
-  const auto p = test_chamber::quick_demo_with("    max_strain: 0.35\n", "    bulk_fraction: 0.55");
+  // The shipped max_strain line replaced (a second max_strain key would be refused as a duplicate).
+  const auto with_max_strain = [](const std::string& v) {
+    std::string text = test_chamber::quick_demo_text();
+    const auto at = text.find("    max_strain: 0.35");
+    if (at == std::string::npos) throw std::logic_error("quick_demo.yaml has no max_strain 0.35 line");
+    text.replace(at, 20, "    max_strain: " + v);
+    return test_chamber::chamber_params_of(text);
+  };
+  const auto p = with_max_strain("0.35");
   EXPECT_FALSE(p.fines_bed.enabled);  // as shipped
   EXPECT_EQ(p.fines_bed.bands, 22);
   EXPECT_DOUBLE_EQ(p.fines_bed.modulus_Pa, 400e6);
   EXPECT_DOUBLE_EQ(p.fines_bed.max_strain, 0.35);
   try {
-    test_chamber::quick_demo_with("    max_strain: 1.5\n", "    bulk_fraction: 0.55");
+    with_max_strain("1.5");
     FAIL() << "accepted max_strain 1.5";
   } catch (const core::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("dem.fines_bed.max_strain"), std::string::npos) << e.what();

@@ -4,7 +4,7 @@
 # at or below the settle time is refused, and so is a run into an out dir that holds one (without --resume/--force).
 set -euo pipefail
 crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
-for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording export build setup env; do
+for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording export config build setup env; do
   text=$(bash "$crusher" "$sub" --help) || { echo "FAIL: crusher $sub --help exited non-zero"; exit 1; }
   grep -q "^usage:" <<<"$text" || { echo "FAIL: crusher $sub --help printed no usage: $text"; exit 1; }
   grep -q "crusher .*$sub" <<<"$text" || { echo "FAIL: crusher $sub --help does not name $sub: $text"; exit 1; }

@@ -5,7 +5,7 @@ source "$(dirname "$0")/ros_env.bash"
 start_master
 base=$src/launch_free_configs/gyp1200_400rpm_bed.yaml  # the diagnosis models the bed load (analysis/mbd_model.hpp)
 # The plant: the base model with the motor's speed drooping under load (the paper assumes a stable speed).
-/usr/bin/python3 - "$base" "$out/plant.yaml" "$src/scripts" <<'PY'
+CRUSHER_NO_BUILD=1 /usr/bin/python3 - "$base" "$out/plant.yaml" "$src/scripts" <<'PY'
 import sys, yaml
 sys.path.insert(0, sys.argv[3])
 import config_yaml  # the config with its base resolved
