@@ -9,6 +9,7 @@
 # 4. stopped by Ctrl-C while running: sweep.csv stays readable, the same command completes it.
 source "$(dirname "$0")/ros_env.bash"
 crusher="$src/scripts/crusher"
+export CRUSHER_NO_BUILD=1  # built by the suite; config_yaml.py calls `crusher config`
 fail() { echo "FAIL: $*"; exit 1; }
 printf 'base: %s\nrun: {duration_s: 3.0, settle_s: 1.5}\n' "$src/launch_free_configs/gyp1200_400rpm.yaml" >"$out/base.yaml"
 sweep() { CRUSHER_NO_BUILD=1 bash "$crusher" sweep "$out/base.yaml" "$@"; }
