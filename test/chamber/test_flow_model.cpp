@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "../common/coaxial_liners.hpp"
+#include "../common/flow_params.hpp"
 #include "chamber/flow_model.hpp"
 #include "core/binary_io.hpp"
 
@@ -18,14 +19,7 @@ namespace {
 using test_liners::cylinder;
 using test_liners::shifted;
 
-chamber::FlowParams params(int bands, int sectors) {
-  chamber::FlowParams p;
-  p.bands = bands;
-  p.sectors = sectors;
-  p.prefill = false;
-  p.choke_feed = false;
-  return p;
-}
+chamber::FlowParams params(int bands, int sectors) { return test_liners::flow_params(bands, sectors); }
 
 const Eigen::Isometry3d kRest = Eigen::Isometry3d::Identity();
 const Eigen::Vector3d kComM(0, 0, -0.5), kComC(0, 0, -0.6);

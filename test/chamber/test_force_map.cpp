@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "../common/coaxial_liners.hpp"
+#include "../common/flow_params.hpp"
 #include "chamber/force_map.hpp"
 
 namespace {
@@ -14,14 +15,6 @@ namespace {
 using test_liners::cylinder;
 using test_liners::shifted;
 
-chamber::FlowParams params(int bands, int sectors, bool prefill) {
-  chamber::FlowParams p;
-  p.bands = bands;
-  p.sectors = sectors;
-  p.prefill = prefill;
-  p.choke_feed = false;
-  return p;
-}
 
 double sum(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0); }
 
@@ -32,7 +25,7 @@ const auto kMantle = cylinder(0.3, -0.8, -0.2), kConcave = cylinder(0.35, -0.8, 
 // 26 bands of a 0.6 m chamber are half a ring (13 rings) each, 18 sectors half a map sector (9): every cell lies in
 // one area. Cell (band b from the bottom, sector s) is area P_{13 - b / 2, s / 2 + 1}.
 TEST(ConcaveForceMap, CellsLandInTheAreaTheyLieIn) {
-  chamber::FlowModel f(params(26, 18, false), kMantle, kConcave);
+  chamber::FlowModel f(test_liners::flow_params(26, 18, false), kMantle, kConcave);
   chamber::ConcaveForceMap map(f, kConcave);
   ASSERT_EQ(map.rings(), 13);
   ASSERT_EQ(map.sectors(), 9);
@@ -50,7 +43,7 @@ TEST(ConcaveForceMap, CellsLandInTheAreaTheyLieIn) {
 // 16 sectors against 9: cell sector 1 spans 22.5-45 deg, area sectors 0-40 and 40-80 deg: shares 17.5 / 22.5 and 5 /
 // 22.5. Bands of 0.6 / 20 m against rings of 0.6 / 13 m split by height the same way. Any values keep their total.
 TEST(ConcaveForceMap, CellsAcrossAreasSplitByOverlapAndTheTotalIsKept) {
-  chamber::FlowModel f(params(20, 16, false), kMantle, kConcave);
+  chamber::FlowModel f(test_liners::flow_params(20, 16, false), kMantle, kConcave);
   chamber::ConcaveForceMap map(f, kConcave);
   std::vector<double> one(f.cells(), 0.0);
   one[19 * 16 + 1] = 1.0;  // the top band, 30 mm: ring 1 (46 mm) holds it whole
@@ -80,7 +73,7 @@ TEST(ConcaveForceMap, CellsAcrossAreasSplitByOverlapAndTheTotalIsKept) {
 // A mantle pressed and held still: each cell's impulse grows by p A h per step, so impulse / time is the mean force
 // and the map of it totals the liners' normal force.
 TEST(ConcaveForceMap, NormalImpulseOverAWindowIsItsMeanForce) {
-  chamber::FlowModel f(params(8, 12, true), kMantle, kConcave);
+  chamber::FlowModel f(test_liners::flow_params(8, 12, true), kMantle, kConcave);
   f.step(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(), {0, 0, -0.5}, {0, 0, -0.6}, 1e-3, 0.0);
   const auto M = shifted({0.01, 0, 0});
   chamber::FlowLoads L;
