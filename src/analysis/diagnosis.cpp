@@ -14,13 +14,23 @@
 
 namespace analysis {
 
-std::vector<EffectSpec> default_candidates() {
+std::vector<Term> default_candidates() {
   // Ranges of the main parameter: from "not there" to well beyond what the mechanism plausibly shows.
+  auto effect = [](const char* name, const char* parameter, const char* unit, double hi) {
+    Term t;
+    t.kind = Term::Effect;
+    t.name = name;
+    t.parameter = parameter;
+    t.unit = unit;
+    t.lo = 0.0;
+    t.hi = hi;
+    return t;
+  };
   return {
-      {"joint_friction", "coulomb_Nm", "N m", 0.0, 2000.0},
-      {"absorber_nonlinearity", "cubic_N_per_m3", "N/m^3", 0.0, 5e11},
-      {"motor_droop", "droop_rad_s_per_kNm", "rad/s per kN m", 0.0, 5.0},
-      {"cardan_misalignment", "angle_deg", "deg", 0.0, 20.0},
+      effect("joint_friction", "coulomb_Nm", "N m", 2000.0),
+      effect("absorber_nonlinearity", "cubic_N_per_m3", "N/m^3", 5e11),
+      effect("motor_droop", "droop_rad_s_per_kNm", "rad/s per kN m", 5.0),
+      effect("cardan_misalignment", "angle_deg", "deg", 20.0),
   };
 }
 
@@ -39,53 +49,6 @@ double structured_excess(const Comparison& c) {
 
 namespace {
 
-struct Evaluator {
-  const ModelFn& model;
-  const DiagnosisOptions& opt;
-  std::map<std::tuple<std::string, double, double>, ChannelHarmonics> cache;
-  int runs = 0;
-
-  const ChannelHarmonics& harmonics(const std::string& effect_in, double value, double speed) {
-    // Every candidate at zero strength is the unchanged model: run it once.
-    const std::string effect = value == 0.0 ? "none" : effect_in;
-    auto key = std::make_tuple(effect, value, speed);
-    auto it = cache.find(key);
-    if (it != cache.end()) return it->second;
-    Recording run = model(effect, value, speed, opt.model_seconds);
-    ++runs;
-    run.source = "model(" + effect + ")";
-    return cache[key] = model_harmonics(run);
-  }
-  // Profile cost: nuisance alignment re-fitted for every value.
-  // A parameter value at which the model fails (blow-up, stalled drive) is a bad fit, not an error.
-  int failures = 0;
-  std::string last_failure;
-  double cost(const std::string& effect, double value, const std::vector<Dataset>& ds) {
-    double s = 0;
-    for (const auto& d : ds) {
-      try {
-        const auto& m = harmonics(effect, value, d.setpoint);
-        s += harmonic_cost(d, m, align(d, m));
-      } catch (const std::exception& e) {
-        ++failures;
-        last_failure = effect + " = " + std::to_string(value) + ": " + e.what();
-        return 1e300;
-      }
-    }
-    return std::isfinite(s) ? s : 1e300;
-  }
-  std::vector<Comparison> compare_all(const std::string& effect, double value, const std::vector<Dataset>& ds,
-                                      bool aligned = true) {
-    std::vector<Comparison> out;
-    for (const auto& d : ds) {
-      const auto& m = harmonics(effect, value, d.setpoint);
-      Alignment a = align(d, m, aligned, aligned);
-      out.push_back(compare(d, m, a, d.label));
-    }
-    return out;
-  }
-};
-
 double overall_nrmse(const std::vector<Comparison>& cs) {
   double num = 0, den = 0;
   for (const auto& c : cs)
@@ -100,16 +63,100 @@ double total_excess(const std::vector<Comparison>& cs) {
   for (const auto& c : cs) s += structured_excess(c);
   return s;
 }
-void information(const std::vector<Comparison>& cs, int k, double& aic_out, double& bic_out) {
-  std::vector<double> rss, n;
-  for (const auto& c : cs)
-    for (const auto& e : c.ch) {
-      rss.push_back(std::max(e.rss, 1e-300));
-      n.push_back(e.n);
+
+// The time series as the selection sees them: model runs cached per parameter set and speed; the cost is the
+// harmonic-domain chi-square with the non-physical alignment (time offset, sensor gain) refitted each time.
+class SeriesObjective : public Objective {
+ public:
+  SeriesObjective(const ModelFn& model, const DiagnosisOptions& opt, const std::vector<Dataset>& train,
+                  const std::vector<Dataset>& heldout)
+      : model_(model), opt_(opt), train_(train), heldout_(heldout) {}
+
+  const ChannelHarmonics& harmonics(const ParamSet& p_in, double speed) {
+    ParamSet p;  // a term at zero strength is the unchanged model (effects' nominal is 0): run it once
+    for (const auto& [k, v] : p_in)
+      if (v != 0.0 || k.find('.') != std::string::npos) p[k] = v;
+    auto key = std::make_pair(to_string(p), speed);
+    auto it = cache_.find(key);
+    if (it != cache_.end()) return it->second;
+    Recording run = model_(p, speed, opt_.model_seconds);
+    ++runs;
+    run.source = "model(" + to_string(p) + ")";
+    return cache_[key] = model_harmonics(run);
+  }
+  double cost(const ParamSet& p) override {
+    double s = 0;
+    for (const auto& d : train_) {
+      try {
+        const auto& m = harmonics(p, d.setpoint);
+        s += harmonic_cost(d, m, align(d, m));
+      } catch (const std::exception& e) {
+        ++failures;
+        last_failure = to_string(p) + ": " + e.what();
+        return 1e300;
+      }
     }
-  aic_out = aic(rss, n, k);
-  bic_out = bic(rss, n, k);
-}
+    return std::isfinite(s) ? s : 1e300;
+  }
+  std::vector<Comparison> compare_all(const ParamSet& p, const std::vector<Dataset>& ds, bool aligned = true) {
+    std::vector<Comparison> out;
+    for (const auto& d : ds) {
+      const auto& m = harmonics(p, d.setpoint);
+      Alignment a = align(d, m, aligned, aligned);
+      out.push_back(compare(d, m, a, d.label));
+    }
+    return out;
+  }
+  Score score(const ParamSet& p) override {
+    Score s;
+    std::vector<Comparison> tr, ho;
+    try {
+      tr = compare_all(p, train_);
+      ho = compare_all(p, heldout_);
+    } catch (const std::exception& e) {
+      ++failures;
+      last_failure = to_string(p) + ": " + e.what();
+      s.cost = s.m2ll = 1e300;
+      s.excess_train = s.excess_heldout = 1e300;
+      s.significant = true;
+      return s;
+    }
+    // -2 ln L with the noise known (recording noise plus the model run's own fluctuation): the harmonic chi-square,
+    // the same residual the fits minimise and the excess measures; n = the harmonic coefficients compared.
+    double chi2 = 0, dof = 0, chi2_rec = 0;
+    for (const auto& c : tr)
+      for (const auto& e : c.ch) {
+        chi2 += e.chi2;
+        dof += e.dof_chi2;
+        // Birge ratio: where the model still leaves more harmonic residual than recording noise explains (the
+        // model run's own fluctuation, an imperfect effect law), widen sigmas by sqrt(chi2 / dof) (Birge 1932).
+        chi2_rec += e.chi2 * e.harmonic_sigma2 / e.sigma2;
+      }
+    s.m2ll = chi2;
+    s.n_obs = dof;
+    s.birge = dof > 0 && chi2_rec > dof ? std::sqrt(chi2_rec / dof) : 1.0;
+    s.excess_train = total_excess(tr);
+    s.excess_heldout = total_excess(ho);
+    s.nrmse_train = overall_nrmse(tr);
+    s.nrmse_heldout = overall_nrmse(ho);
+    for (const auto* set : {&tr, &ho})
+      for (const auto& c : *set)
+        for (const auto& e : c.ch)
+          if (residual_significant(e, opt_.z_significance)) s.significant = true;
+    s.cost = cost(p);
+    return s;
+  }
+
+  int runs = 0, failures = 0;
+  std::string last_failure;
+
+ private:
+  const ModelFn& model_;
+  const DiagnosisOptions& opt_;
+  const std::vector<Dataset>& train_;
+  const std::vector<Dataset>& heldout_;
+  std::map<std::pair<std::string, double>, ChannelHarmonics> cache_;
+};
 
 }  // namespace
 
@@ -154,12 +201,12 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
     r.train[0].setpoint = setpoint_of(0);
     for (std::size_t i = 1; i < recordings.size(); ++i) r.heldout[i - 1].setpoint = setpoint_of(i);
   }
-  Evaluator ev{model, opt, {}, 0};
+  SeriesObjective ev(model, opt, r.train, r.heldout);
 
   // Locate: unchanged model, first without and then with the non-physical alignment.
-  r.naive_train = ev.compare_all("none", 0.0, r.train, false);
-  r.before_train = ev.compare_all("none", 0.0, r.train);
-  r.before_heldout = ev.compare_all("none", 0.0, r.heldout);
+  r.naive_train = ev.compare_all({}, r.train, false);
+  r.before_train = ev.compare_all({}, r.train);
+  r.before_heldout = ev.compare_all({}, r.heldout);
   {
     double naive = 0, aligned = 0;
     for (const auto& c : r.naive_train) for (const auto& e : c.ch) naive += std::max(0.0, e.rss / e.sigma2 - e.n);
@@ -190,103 +237,74 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
   std::sort(r.located.begin(), r.located.end(),
             [](const Mismatch& a, const Mismatch& b) { return a.excess_chi2 > b.excess_chi2; });
 
-  // Name: fit each candidate's main parameter on the training data, score by BIC, check held out.
-  double aic0, bic0;
-  information(r.before_train, 0, aic0, bic0);
-  const double excess_train0 = total_excess(r.before_train), excess_held0 = total_excess(r.before_heldout);
-  for (const auto& spec : candidates) {
-    CandidateResult cr;
-    cr.spec = spec;
-    auto f = [&](double v) {
-      double c = ev.cost(spec.name, v, r.train);
-      cr.profile.emplace_back(v, c);
-      return c;
-    };
-    Minimum best = minimise_scan_golden(f, spec.lo, spec.hi, opt.scan_points, opt.rel_tol * (spec.hi - spec.lo));
-    cr.value = best.x;
-    cr.evaluations = best.evaluations;
-    // Uncertainty: cost = chi-square (residuals over noise std), so sigma = sqrt(2 / cost'').
-    const double h = std::max(0.01 * (spec.hi - spec.lo), 0.05 * std::abs(best.x));
-    const double x0 = std::max(best.x, spec.lo + h);
-    const double f0 = x0 == best.x ? best.f : f(x0);
-    const double fp = f(x0 + h), fm = f(x0 - h);
-    const double curv = (fp - 2.0 * f0 + fm) / (h * h);
-    cr.sigma = curv > 0 && curv < 1e290 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
-    if (curv > 0 && fp < 1e290 && fm < 1e290) {
-      // One Newton step on the parabola through the three points: finer than the golden-section
-      // tolerance at the cost of one run.
-      const double xn = std::min(spec.hi, std::max(spec.lo, x0 - (fp - fm) / (2.0 * h) / curv));
-      if (std::abs(xn - x0) < 2.0 * h) {
-        const double fn = f(xn);
-        if (fn < best.f) cr.value = xn;
-      }
-    }
-    auto after_train = ev.compare_all(spec.name, cr.value, r.train);
-    auto after_held = ev.compare_all(spec.name, cr.value, r.heldout);
-    {
-      // Birge ratio: where the fitted model still leaves more harmonic residual than recording noise
-      // explains (the model run's own fluctuation, an imperfect effect law), widen the uncertainty by
-      // sqrt(chi2 / dof) (Birge 1932; the usual reduced-chi-square scaling).
-      double chi2 = 0, dof = 0;
-      for (const auto& cmp : after_train)
-        for (const auto& e : cmp.ch) {
-          chi2 += e.chi2 * e.harmonic_sigma2 / e.sigma2;
-          dof += e.dof_chi2;
-        }
-      if (dof > 0 && chi2 > dof) cr.sigma *= std::sqrt(chi2 / dof);
-    }
-    information(after_train, 1, cr.aic, cr.bic);
-    cr.delta_aic = cr.aic - aic0;
-    cr.delta_bic = cr.bic - bic0;
-    cr.explained_train = excess_train0 > 0 ? 1.0 - total_excess(after_train) / excess_train0 : 0.0;
-    cr.explained_heldout = excess_held0 > 0 ? 1.0 - total_excess(after_held) / excess_held0 : 0.0;
-    cr.nrmse_train = overall_nrmse(after_train);
-    cr.nrmse_heldout = overall_nrmse(after_held);
-    r.candidates.push_back(cr);
-  }
-  int best = -1;
-  for (std::size_t i = 0; i < r.candidates.size(); ++i)
-    if (best < 0 || r.candidates[i].bic < r.candidates[best].bic) best = static_cast<int>(i);
-
-  std::ostringstream why;
-  if (!r.residual_significant) {
-    r.effect = "none";
-    why << "the residual of the unchanged model, after time offset and sensor gain, is consistent with "
-           "sensor noise (chi-square test at "
-        << opt.z_significance << " sigma in every channel and data set)";
-    if (best >= 0) why << "; best candidate " << r.candidates[best].spec.name << " changes BIC by "
-                       << r.candidates[best].delta_bic;
-  } else if (best >= 0 && r.candidates[best].delta_bic < -opt.bic_threshold &&
-             r.candidates[best].explained_train >= opt.min_explained &&
-             r.candidates[best].explained_heldout >= opt.min_explained) {
-    r.effect = r.candidates[best].spec.name;
-    r.chosen = best;
-    why << r.effect << " lowers BIC by " << -r.candidates[best].delta_bic << " and removes "
-        << 100 * r.candidates[best].explained_train << " % (training) and "
-        << 100 * r.candidates[best].explained_heldout << " % (held out) of the structured residual";
-  } else {
-    r.effect = "unexplained";
-    why << "the residual is significant but no candidate lowers BIC by " << opt.bic_threshold
-        << " while removing " << 100 * opt.min_explained << " % of the structured residual on training and "
-        << "held-out data";
-    if (!r.located.empty())
-      why << "; largest unexplained part: " << r.located[0].channel << " order " << r.located[0].order
-          << " in " << r.located[0].dataset;
-  }
-  r.reason = why.str();
-  if (r.chosen >= 0) {
-    const auto& c = r.candidates[r.chosen];
-    r.after_train = ev.compare_all(c.spec.name, c.value, r.train);
-    r.after_heldout = ev.compare_all(c.spec.name, c.value, r.heldout);
-  } else {
-    r.after_train = r.before_train;
-    r.after_heldout = r.before_heldout;
-  }
+  // Name: forward selection over the candidates (effects and uncertain values), BIC and held-out checks.
+  SelectionOptions so;
+  so.scan_points = opt.scan_points;
+  so.rel_tol = opt.rel_tol;
+  so.bic_threshold = opt.bic_threshold;
+  so.min_explained = opt.min_explained;
+  so.min_step_explained = opt.min_step_explained;
+  so.max_terms = opt.max_terms;
+  const Selection sel = forward_select(ev, candidates, so);
+  adopt_selection(r, sel, opt);
+  if (r.effect == "unexplained" && !r.located.empty())
+    r.reason += "; largest unexplained part: " + r.located[0].channel + " order " +
+                std::to_string(r.located[0].order) + " in " + r.located[0].dataset;
+  r.after_train = ev.compare_all(r.fitted, r.train);
+  r.after_heldout = ev.compare_all(r.fitted, r.heldout);
   r.model_runs = ev.runs;
   r.model_failures = ev.failures;
   r.last_model_failure = ev.last_failure;
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   return r;
+}
+
+void adopt_selection(DiagnosisResult& r, const Selection& sel, const DiagnosisOptions& opt) {
+  r.steps = sel.steps;
+  r.named = sel.named;
+  r.fitted = sel.fitted;
+  r.candidates = sel.steps.empty() ? std::vector<TermFit>{} : sel.steps.front().fits;
+  r.residual_significant = sel.before.significant;
+  r.chosen = sel.steps.empty() ? -1 : sel.steps.front().chosen;
+  std::ostringstream why;
+  why.precision(3);
+  if (!sel.before.significant) {
+    r.effect = "none";
+    why << "the residual of the unchanged model, after the non-physical differences, is consistent with the "
+           "data's noise (chi-square test at "
+        << opt.z_significance << " sigma in every channel and data set)";
+    int best = -1;
+    for (std::size_t i = 0; i < r.candidates.size(); ++i)
+      if (best < 0 || r.candidates[i].bic < r.candidates[best].bic) best = static_cast<int>(i);
+    if (best >= 0) why << "; best candidate " << r.candidates[best].term.name << " changes BIC by "
+                       << r.candidates[best].delta_bic;
+  } else if (sel.named.empty()) {
+    r.effect = "unexplained";
+    if (sel.partial.empty()) {
+      why << "the residual is significant but no candidate lowers BIC by " << opt.bic_threshold
+          << " while removing part of the structured residual on training and held-out data";
+    } else {
+      why << "the residual is significant; the best terms (";
+      for (std::size_t i = 0; i < sel.partial.size(); ++i) why << (i ? ", " : "") << sel.partial[i].term.name;
+      why << ") together remove " << 100 * sel.explained_train << " % (training) and "
+          << 100 * sel.explained_heldout << " % (held out) of it, less than " << 100 * opt.min_explained << " %";
+    }
+  } else {
+    r.effect = effect_label(sel.named);
+    for (std::size_t k = 0; k < sel.steps.size(); ++k) {
+      const auto& st = sel.steps[k];
+      if (st.chosen < 0) {
+        why << "; then " << st.why;
+        continue;
+      }
+      const auto& c = st.fits[st.chosen];
+      why << (k ? "; then " : "") << c.term.name << " lowers BIC by " << -c.delta_bic << " and removes "
+          << 100 * c.explained_train << " % (training) and " << 100 * c.explained_heldout
+          << " % (held out) of the structured residual (" << st.why << ")";
+    }
+    if (sel.after.significant) why << "; a significant residual remains";
+  }
+  r.reason = why.str();
 }
 
 }  // namespace analysis

@@ -66,15 +66,31 @@ std::string diagnosis_json(const DiagnosisResult& r) {
   std::ostringstream o;
   o << "{\n  \"effect\": \"" << r.effect << "\",\n  \"reason\": \"" << esc(r.reason) << "\",\n";
   o << "  \"candidates_considered\": [";
-  for (std::size_t i = 0; i < r.candidates.size(); ++i) o << (i ? ", " : "") << "\"" << r.candidates[i].spec.name << "\"";
+  for (std::size_t i = 0; i < r.candidates.size(); ++i) o << (i ? ", " : "") << "\"" << esc(r.candidates[i].term.name) << "\"";
   o << "],\n  \"parameters\": {";
-  if (r.chosen >= 0) {
-    const auto& c = r.candidates[r.chosen];
-    o << "\"" << c.spec.parameter << "\": {\"value\": " << num(c.value) << ", \"std\": " << num(c.sigma)
-      << ", \"unit\": \"" << c.spec.unit << "\", \"yaml_key\": \"mbd.effects." << c.spec.name << "."
-      << c.spec.parameter << "\"}";
+  for (std::size_t i = 0; i < r.named.size(); ++i) {
+    const auto& c = r.named[i];
+    o << (i ? ", " : "") << "\"" << esc(c.term.parameter) << "\": {\"value\": " << num(c.value) << ", \"std\": "
+      << num(c.sigma) << ", \"unit\": \"" << esc(c.term.unit) << "\", \"yaml_key\": \"" << esc(c.term.key()) << "\""
+      << (c.term.scale ? ", \"scale_factor\": true" : "") << "}";
   }
-  o << "},\n  \"residual_significant\": " << (r.residual_significant ? "true" : "false")
+  o << "},\n  \"effects\": [";
+  for (std::size_t i = 0; i < r.named.size(); ++i) {
+    const auto& c = r.named[i];
+    o << (i ? ", " : "") << "{\"name\": \"" << esc(c.term.name) << "\", \"kind\": \""
+      << (c.term.kind == Term::Effect ? "omitted_effect" : "miscalibrated") << "\", \"yaml_key\": \""
+      << esc(c.term.key()) << "\", \"value\": " << num(c.value) << ", \"std\": " << num(c.sigma)
+      << ", \"nominal\": " << num(c.term.nominal) << ", \"unit\": \"" << esc(c.term.unit) << "\", \"reason\": \""
+      << esc(c.term.reason) << "\"}";
+  }
+  o << "],\n  \"selection\": [";
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    const auto& st = r.steps[k];
+    o << (k ? ",\n    " : "\n    ") << "{\"step\": " << k + 1 << ", \"named\": "
+      << (st.chosen >= 0 ? "\"" + esc(st.fits[st.chosen].term.name) + "\"" : std::string("null"))
+      << ", \"why\": \"" << esc(st.why) << "\"}";
+  }
+  o << "],\n  \"residual_significant\": " << (r.residual_significant ? "true" : "false")
     << ",\n  \"nonphysical_share\": " << num(r.nonphysical_share) << ",\n  \"nonphysical\": [";
   bool first = true;
   for (const auto* set : {&r.before_train, &r.before_heldout})
@@ -104,9 +120,10 @@ std::string diagnosis_json(const DiagnosisResult& r) {
   o << "],\n  \"candidates\": [";
   for (std::size_t i = 0; i < r.candidates.size(); ++i) {
     const auto& c = r.candidates[i];
-    o << (i ? ",\n    " : "\n    ") << "{\"effect\": \"" << c.spec.name << "\", \"parameter\": \""
-      << c.spec.parameter << "\", \"unit\": \"" << c.spec.unit << "\", \"value\": " << num(c.value)
-      << ", \"std\": " << num(c.sigma) << ", \"search_range\": [" << num(c.spec.lo) << ", " << num(c.spec.hi)
+    o << (i ? ",\n    " : "\n    ") << "{\"effect\": \"" << esc(c.term.name) << "\", \"kind\": \""
+      << (c.term.kind == Term::Effect ? "omitted_effect" : "miscalibrated") << "\", \"parameter\": \""
+      << esc(c.term.parameter) << "\", \"unit\": \"" << esc(c.term.unit) << "\", \"value\": " << num(c.value)
+      << ", \"std\": " << num(c.sigma) << ", \"search_range\": [" << num(c.term.lo) << ", " << num(c.term.hi)
       << "], \"aic\": " << num(c.aic) << ", \"bic\": " << num(c.bic) << ", \"delta_aic\": " << num(c.delta_aic)
       << ", \"delta_bic\": " << num(c.delta_bic) << ", \"explained_train\": " << num(c.explained_train)
       << ", \"explained_heldout\": " << num(c.explained_heldout) << ", \"nrmse_train\": " << num(c.nrmse_train)
@@ -134,12 +151,14 @@ std::string diagnosis_markdown(const DiagnosisResult& r) {
   o << std::setprecision(3);
   o << "# Mismatch diagnosis\n\n";
   o << "**Result: `" << r.effect << "`** — " << r.reason << ".\n\n";
-  if (r.chosen >= 0) {
-    const auto& c = r.candidates[r.chosen];
-    o << "Fitted: `mbd.effects." << c.spec.name << "." << c.spec.parameter << "` = " << c.value << " ± "
-      << c.sigma << " " << c.spec.unit << " (1 sigma, from the curvature of the cost). `fitted.yaml` holds the "
-      << "model with this effect switched on.\n\n";
+  for (const auto& c : r.named) {
+    o << (c.term.kind == Term::Effect ? "Omitted effect" : "Miscalibrated value") << ": `" << c.term.key()
+      << "` " << (c.term.scale ? "scaled by " : "= ") << c.value << " ± " << c.sigma << " " << c.term.unit
+      << " (1 sigma, from the curvature of the cost";
+    if (c.term.kind == Term::Miscalibrated) o << "; the config's value " << c.term.nominal << ", uncertain because: " << c.term.reason;
+    o << ").\n\n";
   }
+  if (!r.named.empty()) o << "`fitted.yaml` holds the model with these values.\n\n";
   o << "## Non-physical differences (removed before judging the physics)\n\n";
   o << "| data set | time offset (s, modulo one drive period) | displacement sensor gain |\n|---|---|---|\n";
   for (const auto* set : {&r.before_train, &r.before_heldout})
@@ -158,12 +177,19 @@ std::string diagnosis_markdown(const DiagnosisResult& r) {
       << (m.order <= kReportOrders ? std::to_string(m.order) : std::string("7-12")) << " | "
       << 100 * m.share << " % | " << m.nrmse << " |\n";
   }
-  o << "\n## Candidate effects\n\n| effect | fitted main parameter | ΔAIC | ΔBIC | structured residual removed (train / held out) |\n|---|---|---|---|---|\n";
-  for (const auto& c : r.candidates)
-    o << "| " << c.spec.name << " | " << c.spec.parameter << " = " << c.value << " ± " << c.sigma << " "
-      << c.spec.unit << " | " << c.delta_aic << " | " << c.delta_bic << " | " << 100 * c.explained_train
-      << " % / " << 100 * c.explained_heldout << " % |\n";
-  o << "\nNegative ΔBIC favours the effect; below -10 is strong evidence.\n\n";
+  for (std::size_t k = 0; k < r.steps.size(); ++k) {
+    o << "\n## Selection step " << k + 1 << (k ? " (on top of the terms named before)" : ": every candidate alone")
+      << "\n\n| candidate | kind | fitted value | ΔAIC | ΔBIC | structured residual removed (train / held out) |\n"
+         "|---|---|---|---|---|---|\n";
+    for (const auto& c : r.steps[k].fits)
+      o << "| " << c.term.name << " | " << (c.term.kind == Term::Effect ? "omitted effect" : "uncertain value")
+        << " | " << c.term.parameter << (c.term.scale ? " x " : " = ") << c.value << " ± " << c.sigma << " "
+        << c.term.unit << " | " << c.delta_aic << " | " << c.delta_bic << " | " << 100 * c.explained_train
+        << " % / " << 100 * c.explained_heldout << " %" << (c.heldout_worse ? " (a held-out row worse)" : "")
+        << " |\n";
+    o << "\nDecision: " << r.steps[k].why << ".\n";
+  }
+  o << "\nNegative ΔBIC favours the term; below -10 is strong evidence.\n\n";
   o << "## Error before and after\n\nNRMSE per channel (fit percent = 100 (1 - NRMSE)); overall = noise-weighted "
        "over channels.\n\n| data set | | overall | x | y | z | power | speed |\n|---|---|---|---|---|---|---|---|\n";
   auto rows = [&](const std::vector<Comparison>& cs, const char* tag) {

@@ -97,4 +97,16 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   return r;
 }
 
+std::map<std::string, double> table5_values(const FlowRunResult& r) {
+  const auto& s = r.summary;
+  const double tph = s.product ? s.product->throughput_tph : NAN;
+  return {{"amplitude_x_mm_mean", s.amplitude_x_mm.mean}, {"amplitude_x_mm_std", s.amplitude_x_mm.std},
+          {"power_kW_mean", s.power_kW.mean},           {"power_kW_std", s.power_kW.std},
+          {"throughput_tph", tph},                      {"specific_energy_kWh_per_t", tph > 0 ? s.power_kW.mean / tph : NAN},
+          {"p80_mm", r.p80_mm > 0 ? r.p80_mm : NAN},    {"passing_12mm_pct", r.passing_12mm_pct},
+          {"passing_1mm_pct", r.passing_1mm_pct},       {"wall_s", r.wall_s},
+          {"compressions", r.product_compressions},     {"chamber_kg", r.chamber_kg},
+          {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW}};
+}
+
 }  // namespace analysis

@@ -1,6 +1,8 @@
 #pragma once
 // A fast-mode run without ROS: the mechanism under the chamber flow model (chamber/flow_load.hpp), with Table 5's
 // figures over the window after the settle time. Used by the flow benchmark, `validate` and the 400 rpm calibration.
+#include <map>
+#include <string>
 #include <vector>
 
 #include "analysis/run_metrics.hpp"
@@ -32,5 +34,10 @@ struct FlowRunResult {
 };
 
 FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowParams& flow, const FlowRunOptions& o);
+
+// Table 5's quantities of a run, by the names `validate` and summary recordings use (summary_data.hpp):
+// amplitude_x_mm_mean/std, power_kW_mean/std, throughput_tph, specific_energy_kWh_per_t, p80_mm, passing_12mm_pct,
+// passing_1mm_pct, plus wall_s, compressions, chamber_kg, nutation_deg, crushing_kW. NaN where a value does not exist.
+std::map<std::string, double> table5_values(const FlowRunResult& r);
 
 }  // namespace analysis

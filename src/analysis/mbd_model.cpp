@@ -8,13 +8,13 @@
 
 namespace analysis {
 
-std::vector<EffectSpec> mbd_candidates() {
+std::vector<Term> mbd_candidates() {
   // Upper ends: well beyond what the mechanism plausibly shows (running torque ~2 kN m; absorber
   // k1 = 320 kN/m at ~3 mm amplitude: k3 = 5e11 N/m^3 adds 15 times k1 there; the frame runs far above
   // its absorber mode, so only a strong cubic term shows in the motion). Droop: mbd accepts only
   // droop >= dt / (drive-line inertia), 0.0205 rad/s per kN m at 400 rpm (1 ms step); 3 drops the
   // speed by ~5 rad/s at the running torque.
-  std::vector<EffectSpec> c = default_candidates();
+  std::vector<Term> c = default_candidates();
   for (auto& e : c)
     if (e.name == "motor_droop") e.lo = 0.021, e.hi = 3.0;
   return c;
@@ -54,16 +54,20 @@ mbd::MechanismParams at_speed(const mbd::MechanismParams& base, double speed_rad
   return p;
 }
 
-ModelFn make_mbd_model(const mbd::MechanismParams& base, const MbdModelOptions& opt) {
-  return [base, opt](const std::string& effect, double value, double speed, double seconds) {
+ModelFn make_mbd_model(const ConfigModel& config, const std::vector<Term>& terms, const MbdModelOptions& opt) {
+  return [config, terms, opt](const ParamSet& set, double speed, double seconds) {
     mbd::SimOptions so;
     so.duration_s = seconds;
     so.sample_hz = opt.sample_hz;
     so.load = opt.load;
     so.settle_s = opt.settle_s;
-    mbd::MechanismParams p = with_effect(at_speed(base, speed), effect, value);
-    return from_fields(mbd::simulate(p, so), "model(" + effect + ")");
+    const mbd::MechanismParams p = at_speed(config.mechanism(set, terms), speed);
+    return from_fields(mbd::simulate(p, so), "model(" + to_string(set) + ")");
   };
+}
+
+ModelFn make_mbd_model(const mbd::MechanismParams& base, const MbdModelOptions& opt) {
+  return make_mbd_model(ConfigModel::from_mechanism(with_effect(base, "none", 0.0)), mbd_candidates(), opt);
 }
 
 }  // namespace analysis

@@ -121,6 +121,7 @@ FlowRunConfig load_flow_run_config(const std::string& file) {
   c.run = core::load_run_options(root.child("run"));
   core::load_coupling_options(root.child_or_empty("coupling"));
   root.ignore("dem");
+  root.ignore("diagnosis");  // crusher diagnose's uncertain values
   root.finish();
   return c;
 }

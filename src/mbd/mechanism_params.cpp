@@ -354,6 +354,7 @@ MechanismParams load_mechanism_params_file(const std::string& path) {
   core::load_coupling_options(root.child_or_empty("coupling"));
   root.ignore("dem");
   root.ignore("flow");  // the chamber flow model's section (chamber/flow_config.hpp)
+  root.ignore("diagnosis");  // crusher diagnose's uncertain values (analysis/param_set.hpp)
   root.finish();
   return p;
 }

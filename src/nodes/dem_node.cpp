@@ -51,6 +51,7 @@ Config load_config(const std::string& path) {
   c.chamber = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
                                             mech.fixed_cone.com_z_m);
   root.ignore("flow");  // mbd_node's chamber flow model
+  root.ignore("diagnosis");  // crusher diagnose's
   root.finish();
   return c;
 }

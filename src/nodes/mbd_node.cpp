@@ -57,6 +57,7 @@ Config load_config(const std::string& path, const std::string& load_override, do
   c.mech = mbd::load_mechanism_params(root.child("mbd"));
   c.flow = chamber::load_flow_params(root.child_or_empty("flow"));  // checked in every mode
   root.ignore("dem");  // read by dem_node
+  root.ignore("diagnosis");  // crusher diagnose's uncertain values
   root.finish();
   if (!load_override.empty()) {
     if (load_override != "none" && load_override != "bed" && load_override != "flow" && load_override != "dem")

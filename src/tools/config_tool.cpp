@@ -110,6 +110,7 @@ YAML::Node resolved_json_tree(const std::string& file) {
                                         mech.fixed_cone.com_z_m);
   else
     root.ignore("dem");  // dem_node's, read when the load is dem
+  root.ignore("diagnosis");  // crusher diagnose's uncertain values, checked by diagnose (analysis/param_set.hpp)
   root.finish();
   if (run.load == "flow") chamber::FlowModel(flow, mech.chamber.mantle, mech.chamber.concave);
   mbd::validate(mech, run.load == "bed");

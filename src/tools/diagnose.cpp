@@ -18,6 +18,7 @@
 
 #include "analysis/diagnosis.hpp"
 #include "analysis/mbd_model.hpp"
+#include "analysis/summary_diagnosis.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "core/run_program.hpp"
@@ -37,12 +38,16 @@ namespace {
 
 const char* kUsage =
     "usage: diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR\n"
+    "       diagnose --summary TABLE.yaml --config BASE.yaml --out DIR   (plant averages per speed, e.g. Table 5)\n"
     "                [--model-seconds S (default 3)] [--settle-s S (default 4)] [--no-plots]\n"
     "                [--setpoint-rpm R (once per recording, in order: the drive set point)]\n"
     "                [--setpoint whole-rpm|measured (without --setpoint-rpm: the config's speed when the\n"
     "                 mean speed is within 3 % of it, else the mean rounded to whole rpm or the mean)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
-    "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n";
+    "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n"
+    "  TABLE.yaml: source, uncertainty_pct and one row per speed (src/analysis/README.md); the model is the\n"
+    "  config's fast mode (flow load) over its run.duration_s after run.settle_s unless --model-seconds.\n"
+    "  Candidates: the omitted-effect modules and the config's diagnosis.uncertain values.\n";
 
 #ifdef CRUSHER_WITH_ROS
 // Test-point samples with the drive state linearly interpolated to their stamps.
@@ -116,6 +121,22 @@ Recording read_any(const std::string& path) {
   return read_recording_csv(path);
 }
 
+// fitted.yaml: the config (its base chain resolved) with the named terms at their fitted values.
+std::string fitted_yaml(const ConfigModel& cfg, const DiagnosisResult& r, const std::vector<Term>& terms) {
+  std::ostringstream y;
+  y << "# Written by diagnose from " << cfg.file() << ": " << r.effect;
+  for (const auto& c : r.named)
+    y << "\n#   " << c.term.key() << (c.term.scale ? " scaled by " : " = ") << c.value << " +- " << c.sigma << " "
+      << c.term.unit;
+  if (r.named.empty()) y << " (model unchanged)";
+  y << "\n";
+  YAML::Node root = cfg.with(r.fitted, terms);
+  YAML::Emitter em;
+  em << root;
+  y << em.c_str() << "\n";
+  return y.str();
+}
+
 void write_text(const fs::path& p, const std::string& s) {
   std::ofstream f(p);
   f << s;
@@ -145,8 +166,9 @@ void write_overlay(const fs::path& p, const Dataset& d, const Comparison& before
 
 int main(int argc, char** argv) {
   std::vector<std::string> recs;
-  std::string config, out;
+  std::string config, out, summary;
   double model_seconds = 3.0, settle_s = 4.0;
+  bool model_seconds_given = false, settle_given = false;
   bool plots = true, whole_rpm = true;
   std::vector<double> setpoint_rpm;
   try {
@@ -158,8 +180,9 @@ int main(int argc, char** argv) {
       if (a == "--recording") recs.push_back(value());
       else if (a == "--config") config = value();
       else if (a == "--out") out = value();
-      else if (a == "--model-seconds") model_seconds = number(0.3, 60);
-      else if (a == "--settle-s") settle_s = number(0, 60);
+      else if (a == "--summary") summary = value();
+      else if (a == "--model-seconds") model_seconds = number(0.3, 60), model_seconds_given = true;
+      else if (a == "--settle-s") settle_s = number(0, 60), settle_given = true;
       else if (a == "--no-plots") plots = false;
       else if (a == "--setpoint-rpm") setpoint_rpm.push_back(number(1, 5000));
       else if (a == "--setpoint") {
@@ -171,11 +194,43 @@ int main(int argc, char** argv) {
       else if (a == "-h" || a == "--help") { std::cout << kUsage; return 0; }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
-    if (recs.empty() || config.empty() || out.empty())
-      throw std::invalid_argument("--recording, --config and --out are required");
+    if (config.empty() || out.empty()) throw std::invalid_argument("--config and --out are required");
+    if (recs.empty() == summary.empty())
+      throw std::invalid_argument("give --recording FILE (time series, one or more) or --summary FILE (averages), not both");
+    if (!summary.empty()) {
+      const ConfigModel cfg(config);
+      std::vector<Term> candidates = mbd_candidates();
+      for (const auto& t : cfg.uncertain()) candidates.push_back(t);
+      const auto data = read_summary(summary);
+      const auto run = cfg.flow_run({}, candidates).run;
+      if (!settle_given) settle_s = run.settle_s;
+      if (!model_seconds_given) model_seconds = run.duration_s - settle_s;
+      if (!(model_seconds > 0)) throw std::invalid_argument("--model-seconds must be positive (the config's run.duration_s minus settle)");
+      std::cerr << "diagnose: summary " << summary << " (" << data.rows.size() << " speeds), model " << config
+                << " (flow, " << model_seconds << " s after " << settle_s << " s)\n";
+      SummaryDiagnosisOptions so;
+      const SummaryDiagnosis d =
+          diagnose_summary(data, make_flow_summary_model(cfg, candidates, model_seconds, settle_s), candidates, so);
+      fs::create_directories(out);
+      const fs::path dir(out);
+      write_text(dir / "diagnosis.json", summary_diagnosis_json(d));
+      write_text(dir / "report.md", summary_diagnosis_markdown(d));
+      DiagnosisResult r;
+      r.effect = d.effect;
+      r.named = d.selection.named;
+      r.fitted = d.selection.fitted;
+      write_text(dir / "fitted.yaml", fitted_yaml(cfg, r, candidates));
+      std::cout << "effect " << d.effect << "\n" << d.reason << "\n";
+      for (const auto& c : d.selection.named)
+        std::cout << c.term.key() << (c.term.scale ? " x " : " ") << c.value << " +- " << c.sigma << " " << c.term.unit << "\n";
+      std::cout << "wall_s " << d.wall_s << " model_runs " << d.model_runs << "\nwrote " << out << "\n";
+      return 0;
+    }
 
     const mbd::MechanismParams base = mbd::load_mechanism_params_file(config);
-    const core::ConfigNode root = core::ConfigNode::load_file(config);  // its run: section goes into fitted.yaml
+    const ConfigModel cfg(config);  // the model the terms change; its diagnosis.uncertain values are candidates
+    std::vector<Term> candidates = mbd_candidates();
+    for (const auto& t : cfg.uncertain()) candidates.push_back(t);
 
     std::vector<Recording> recordings;
     for (const auto& f : recs) recordings.push_back(read_any(f));
@@ -188,30 +243,13 @@ int main(int argc, char** argv) {
     opt.nominal_setpoints_rad_s = {base.drive_speed_rad_s};
     for (double rpm : setpoint_rpm) opt.setpoints_rad_s.push_back(rpm * 2.0 * M_PI / 60.0);
     std::cerr << "diagnose: " << recordings.size() << " recording(s), model " << config << "\n";
-    DiagnosisResult r = diagnose(recordings, make_mbd_model(base, mo), mbd_candidates(), opt);
+    DiagnosisResult r = diagnose(recordings, make_mbd_model(cfg, candidates, mo), candidates, opt);
 
     fs::create_directories(out);
     const fs::path dir(out);
     write_text(dir / "diagnosis.json", diagnosis_json(r));
     write_text(dir / "report.md", diagnosis_markdown(r));
-    // fitted.yaml: the run section as given, then the model with the chosen effect (or unchanged).
-    mbd::MechanismParams fitted = base;
-    if (r.chosen >= 0) fitted = with_effect(base, r.effect, r.candidates[r.chosen].value);
-    std::ostringstream y;
-    y << "# Written by diagnose from " << config << ": effect " << r.effect;
-    if (r.chosen >= 0) y << " fitted (" << r.candidates[r.chosen].spec.parameter << " = " << r.candidates[r.chosen].value
-                         << " +- " << r.candidates[r.chosen].sigma << " " << r.candidates[r.chosen].spec.unit << ")";
-    else y << " (model unchanged)";
-    y << "\n";
-    if (root.has("run")) {
-      YAML::Node run_only;
-      run_only["run"] = root.raw()["run"];
-      YAML::Emitter em;
-      em << run_only;
-      y << em.c_str() << "\n";
-    }
-    y << mbd::to_yaml(fitted);
-    write_text(dir / "fitted.yaml", y.str());
+    write_text(dir / "fitted.yaml", fitted_yaml(cfg, r, candidates));
 
     if (plots) {
       int i = 0;
@@ -222,9 +260,8 @@ int main(int argc, char** argv) {
       core::run_plot_script("diagnose", "plot_diagnosis.py", dir.string());
     }
     std::cout << "effect " << r.effect << "\n" << r.reason << "\n";
-    if (r.chosen >= 0)
-      std::cout << r.candidates[r.chosen].spec.parameter << " " << r.candidates[r.chosen].value << " +- "
-                << r.candidates[r.chosen].sigma << " " << r.candidates[r.chosen].spec.unit << "\n";
+    for (const auto& c : r.named)
+      std::cout << c.term.key() << (c.term.scale ? " x " : " ") << c.value << " +- " << c.sigma << " " << c.term.unit << "\n";
     std::cout << "wall_s " << r.wall_s << " model_runs " << r.model_runs << "\nwrote " << out << "\n";
     return 0;
   } catch (const std::exception& e) {

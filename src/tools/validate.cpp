@@ -61,15 +61,7 @@ Case run_case(const std::string& file, const std::string& load, double seconds, 
     o.duration_s = seconds;
     o.settle_s = settle;
     const auto r = analysis::run_flow(mech, flow, o);
-    const auto& s = r.summary;
-    const double tph = s.product->throughput_tph;
-    c.v = {{"amplitude_x_mm_mean", s.amplitude_x_mm.mean}, {"amplitude_x_mm_std", s.amplitude_x_mm.std},
-           {"power_kW_mean", s.power_kW.mean},           {"power_kW_std", s.power_kW.std},
-           {"throughput_tph", tph},                      {"specific_energy_kWh_per_t", tph > 0 ? s.power_kW.mean / tph : NAN},
-           {"p80_mm", r.p80_mm > 0 ? r.p80_mm : NAN},    {"passing_12mm_pct", r.passing_12mm_pct},
-           {"passing_1mm_pct", r.passing_1mm_pct},       {"wall_s", r.wall_s},
-           {"compressions", r.product_compressions},     {"chamber_kg", r.chamber_kg},
-           {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW}};
+    c.v = analysis::table5_values(r);
   } else {
     mbd::SimOptions o;
     o.duration_s = seconds;

@@ -6,26 +6,31 @@
 //  motor_droop: speed drops in proportion to torque ripple (mean held by the drive set point);
 //  cardan_misalignment: universal-joint speed ripple w (1 + b^2/2 cos 2phi) (small-angle form of
 //  w2/w1 = cos b / (1 - sin^2 b cos^2 phi)) and the matching inertia torque.
+// And one uncertain value (a miscalibration term, factor on its nominal 1): frame.mass_scale m: the frame's
+// amplitude falls as 1/m, its phase lag grows, the power's mean falls a little (a heavier frame swings less).
 #include <cmath>
 #include <string>
 
+#include "analysis/param_set.hpp"
 #include "analysis/recording.hpp"
 
 namespace diagtest {
 
-inline analysis::Recording synthetic_run(const std::string& effect, double value, double w, double seconds,
-                                         double hz = 1000.0) {
+// Several effects at once: each term of the set at its value (the others absent).
+inline analysis::Recording synthetic_run(const analysis::ParamSet& p, double w, double seconds, double hz = 1000.0) {
+  auto at = [&](const char* name) { return p.count(name) ? p.at(name) : 0.0; };
   const double w0 = 400 * 2 * M_PI / 60;
-  const double c = effect == "joint_friction" ? value : 0.0;
-  const double k3 = effect == "absorber_nonlinearity" ? value : 0.0;
-  const double d = effect == "motor_droop" ? value : 0.0;
-  const double b = effect == "cardan_misalignment" ? value * M_PI / 180 : 0.0;
-  const double A = 5e-3 * std::pow(w / w0, 0.2);
+  const double c = at("joint_friction");
+  const double k3 = at("absorber_nonlinearity");
+  const double d = at("motor_droop");
+  const double b = at("cardan_misalignment") * M_PI / 180;
+  const double m = p.count("frame.mass_scale") ? p.at("frame.mass_scale") : 1.0;
+  const double A = 5e-3 * std::pow(w / w0, 0.2) / m;
   const double k1 = 2e7;
   const double nl = k3 * A * A / k1;
   const double Aeff = A / (1 + nl), A3 = 0.25 * nl * Aeff;
-  const double lag = 0.3 + 2e-4 * c;
-  const double T0 = 1800 * (w / w0), T2 = 300;
+  const double lag = 0.3 + 2e-4 * c + 0.8 * (m - 1.0);
+  const double T0 = 1800 * (w / w0) * (1.0 - 0.3 * (m - 1.0)), T2 = 300;
   analysis::Recording r;
   r.source = "synthetic";
   const int n = static_cast<int>(seconds * hz);
@@ -42,6 +47,13 @@ inline analysis::Recording synthetic_run(const std::string& effect, double value
     r.power_W.push_back(T * speed);
   }
   return r;
+}
+
+inline analysis::Recording synthetic_run(const std::string& effect, double value, double w, double seconds,
+                                         double hz = 1000.0) {
+  analysis::ParamSet p;
+  if (effect != "none") p[effect] = value;
+  return synthetic_run(p, w, seconds, hz);
 }
 
 }  // namespace diagtest

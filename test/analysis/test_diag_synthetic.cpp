@@ -19,24 +19,43 @@ DiagnosisOptions options() {
 }
 
 ModelFn stand_in() {
-  return [](const std::string& effect, double value, double speed, double seconds) {
-    return diagtest::synthetic_run(effect, value, speed, seconds);
-  };
+  return [](const ParamSet& p, double speed, double seconds) { return diagtest::synthetic_run(p, speed, seconds); };
 }
 
-DiagnosisResult run_case(const std::string& effect, double value, std::uint64_t seed) {
+std::vector<Recording> recordings(const ParamSet& concealed, std::uint64_t seed, double noise = 0.01) {
   std::vector<Recording> recs;
   int i = 0;
   for (double w : {kW400, kW600}) {
     SensorErrors e;
-    e.noise_rel = 0.01;
+    e.noise_rel = noise;
     e.time_offset_s = 0.021 + 0.01 * i;
     e.gain = 0.95;
     e.seed = seed + i;
-    recs.push_back(apply_sensor_errors(diagtest::synthetic_run(effect, value, w, 2.0), e));
+    recs.push_back(apply_sensor_errors(diagtest::synthetic_run(concealed, w, 2.0), e));
     recs.back().source = "rec" + std::to_string(++i);
   }
-  return diagnose(recs, stand_in(), default_candidates(), options());
+  return recs;
+}
+
+DiagnosisResult run_case(const std::string& effect, double value, std::uint64_t seed) {
+  ParamSet p;
+  if (effect != "none") p[effect] = value;
+  return diagnose(recordings(p, seed), stand_in(), default_candidates(), options());
+}
+
+// The candidates with the stand-in's uncertain value (frame.mass_scale, plausible 0.7-1.3).
+std::vector<Term> with_uncertain() {
+  auto c = default_candidates();
+  Term t;
+  t.kind = Term::Miscalibrated;
+  t.name = t.parameter = "frame.mass_scale";
+  t.unit = "factor";
+  t.lo = 0.7;
+  t.hi = 1.3;
+  t.nominal = 1.0;
+  t.reason = "test";
+  c.push_back(t);
+  return c;
 }
 }  // namespace
 
@@ -94,4 +113,42 @@ TEST(DiagSynthetic, UnmodelledMismatchIsUnexplained) {
   ASSERT_FALSE(r.located.empty());
   EXPECT_EQ(r.located[0].channel, "z_m");
   EXPECT_EQ(r.located[0].order, 5);
+}
+
+TEST(DiagSynthetic, AValueOffIsNamedMiscalibratedNotAnOmittedEffect) {
+  for (double m : {0.9, 1.12}) {
+    DiagnosisResult r = diagnose(recordings({{"frame.mass_scale", m}}, 21), stand_in(), with_uncertain(), options());
+    ASSERT_EQ(r.effect, "miscalibrated") << r.reason << "\n" << diagnosis_markdown(r);
+    ASSERT_EQ(r.named.size(), 1u);
+    EXPECT_EQ(r.named[0].term.name, "frame.mass_scale");
+    EXPECT_NEAR(r.named[0].value, m, 0.15 * std::abs(m - 1.0)) << "within 15 % of the offset";
+    EXPECT_LT(r.after_heldout[0].nrmse_overall, 0.5 * r.before_heldout[0].nrmse_overall);
+  }
+}
+
+TEST(DiagSynthetic, AnEffectIsStillNamedWhenUncertainValuesAreCandidates) {
+  DiagnosisResult r = diagnose(recordings({{"cardan_misalignment", 5.0}}, 31), stand_in(), with_uncertain(), options());
+  ASSERT_EQ(r.effect, "cardan_misalignment") << r.reason << "\n" << diagnosis_markdown(r);
+  EXPECT_NEAR(r.named[0].value, 5.0, 0.75);
+}
+
+TEST(DiagSynthetic, TwoConcealedEffectsAreBothNamed) {
+  const ParamSet concealed = {{"joint_friction", 450.0}, {"cardan_misalignment", 5.0}};
+  DiagnosisResult r = diagnose(recordings(concealed, 41), stand_in(), with_uncertain(), options());
+  ASSERT_EQ(r.named.size(), 2u) << r.reason << "\n" << diagnosis_markdown(r);
+  for (const auto& [name, value] : concealed) {
+    ASSERT_EQ(r.fitted.count(name), 1u) << name << " not named: " << r.effect;
+    EXPECT_NEAR(r.fitted.at(name), value, 0.15 * value) << name;
+  }
+  EXPECT_NE(r.effect.find(" + "), std::string::npos);
+  EXPECT_LT(r.after_heldout[0].nrmse_overall, 0.5 * r.before_heldout[0].nrmse_overall);
+}
+
+TEST(DiagSynthetic, AnEffectAndAMiscalibrationTogether) {
+  const ParamSet concealed = {{"motor_droop", 1.2}, {"frame.mass_scale", 1.1}};
+  DiagnosisResult r = diagnose(recordings(concealed, 51), stand_in(), with_uncertain(), options());
+  ASSERT_EQ(r.named.size(), 2u) << r.reason << "\n" << diagnosis_markdown(r);
+  EXPECT_TRUE(r.effect == "motor_droop + miscalibrated" || r.effect == "miscalibrated + motor_droop") << r.effect;
+  EXPECT_NEAR(r.fitted.at("motor_droop"), 1.2, 0.18);
+  EXPECT_NEAR(r.fitted.at("frame.mass_scale"), 1.1, 0.015);
 }
