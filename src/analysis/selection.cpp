@@ -61,6 +61,50 @@ TermFit fit_term(Objective& obj, const Term& term, const ParamSet& fixed, const 
   return tf;
 }
 
+void joint_refit(Objective& obj, std::vector<TermFit>& named, ParamSet& fixed, const SelectionOptions& opt) {
+  const std::size_t n = named.size();
+  auto value = [&](std::size_t i, double u) {
+    const Term& t = named[i].term;
+    return t.lo + std::min(1.0, std::max(0.0, u)) * (t.hi - t.lo);
+  };
+  auto set_of = [&](const std::vector<double>& u) {
+    ParamSet p = fixed;
+    for (std::size_t i = 0; i < n; ++i) p[named[i].term.name] = value(i, u[i]);
+    return p;
+  };
+  std::vector<double> u0(n), step(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Term& t = named[i].term;
+    u0[i] = (named[i].value - t.lo) / (t.hi - t.lo);
+    step[i] = std::max(0.02, std::min(0.2, std::isfinite(named[i].sigma) ? 3.0 * named[i].sigma / (t.hi - t.lo) : 0.2));
+  }
+  auto f = [&](const std::vector<double>& u) {
+    double penalty = 0;  // outside [0, 1]: the clamped value's cost, rising with the distance
+    for (double x : u) penalty += x < 0 ? -x : (x > 1 ? x - 1 : 0);
+    return obj.cost(set_of(u)) * (1.0 + penalty);
+  };
+  const core::MinimumN m = core::nelder_mead(f, u0, step, 0.5, 60 * static_cast<int>(n));
+  const ParamSet best = set_of(m.x);
+  const Score s = obj.score(best);
+  for (std::size_t i = 0; i < n; ++i) {
+    TermFit& tf = named[i];
+    tf.value = best.at(tf.term.name);
+    // Conditional 1-sigma from the cost's curvature in this term with the others at their values.
+    const double h = 0.01 * (tf.term.hi - tf.term.lo);
+    const double x0 = std::min(std::max(tf.value, tf.term.lo + h), tf.term.hi - h);
+    ParamSet p = best;
+    p[tf.term.name] = x0;
+    const double f0 = obj.cost(p);
+    p[tf.term.name] = x0 + h;
+    const double fp = obj.cost(p);
+    p[tf.term.name] = x0 - h;
+    const double fm = obj.cost(p);
+    const double curv = (fp - 2.0 * f0 + fm) / (h * h);
+    tf.sigma = (curv > 0 && curv < 1e290 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity()) * s.birge;
+  }
+  fixed = best;
+}
+
 Selection forward_select(Objective& obj, const std::vector<Term>& terms, const SelectionOptions& opt) {
   Selection sel;
   sel.before = obj.score({});
@@ -68,7 +112,7 @@ Selection forward_select(Objective& obj, const std::vector<Term>& terms, const S
   ParamSet fixed;
   std::vector<std::size_t> named_index;  // into terms
   // The first step's candidates are fitted even when the residual is noise (the report shows them).
-  for (int k = 0; k < opt.max_terms && (k == 0 || current.significant); ++k) {
+  for (int k = 0; k < opt.max_terms && ((k == 0 && opt.fit_when_consistent) || current.significant); ++k) {
     SelectionStep step;
     for (std::size_t i = 0; i < terms.size(); ++i)
       if (!fixed.count(terms[i].name)) step.fits.push_back(fit_term(obj, terms[i], fixed, current, k, opt));
@@ -109,17 +153,9 @@ Selection forward_select(Objective& obj, const std::vector<Term>& terms, const S
       if (terms[i].name == c.term.name) named_index.push_back(i);
     fixed[c.term.name] = c.value;
     sel.named.push_back(c);
-    // Joint refit: each earlier term once more with the others at their values.
-    if (sel.named.size() > 1) {
-      for (std::size_t j = 0; j + 1 < sel.named.size(); ++j) {
-        ParamSet others = fixed;
-        others.erase(sel.named[j].term.name);
-        TermFit again = fit_term(obj, sel.named[j].term, others, sel.before, static_cast<int>(sel.named.size()) - 1, opt);
-        sel.named[j].value = again.value;
-        sel.named[j].sigma = again.sigma;
-        fixed[sel.named[j].term.name] = again.value;
-      }
-    }
+    // Joint refit of every named term (Nelder-Mead on the terms' ranges scaled to [0, 1]): the terms' effects are
+    // correlated, so refitting one at a time leaves a bias that a spurious extra term would then absorb.
+    if (sel.named.size() > 1) joint_refit(obj, sel.named, fixed, opt);
     obj.named(fixed);
     current = obj.score(fixed);
   }

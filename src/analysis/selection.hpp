@@ -40,6 +40,7 @@ struct SelectionOptions {
   double bic_threshold = 10.0;  // a term must lower BIC by this much (strong evidence, Kass-Raftery)
   double min_step_explained = 0.2;  // ... and remove this fraction of the residual left, training and held out
   double min_explained = 0.5;   // together the named terms remove this fraction, training and held out
+  bool fit_when_consistent = true;  // fit the candidates for the report even when the residual is noise
   int max_terms = 3;            // at most this many terms named together
 };
 
@@ -73,6 +74,8 @@ struct Selection {
 // Fits `term` on top of `fixed` (its range scanned, then golden-section, then a Newton step on the curvature).
 TermFit fit_term(Objective& obj, const Term& term, const ParamSet& fixed, const Score& before, int k_before,
                  const SelectionOptions& opt);
+// Refits the named terms together (Nelder-Mead over their ranges); updates their values, sigmas and `fixed`.
+void joint_refit(Objective& obj, std::vector<TermFit>& named, ParamSet& fixed, const SelectionOptions& opt);
 Selection forward_select(Objective& obj, const std::vector<Term>& terms, const SelectionOptions& opt);
 // The named terms in words: "none" for none, effect names and "miscalibrated" once for refitted values,
 // joined by " + " (e.g. "miscalibrated", "joint_friction + motor_droop").

@@ -14,7 +14,11 @@
 namespace analysis {
 
 struct SummaryDiagnosisOptions {
-  SelectionOptions selection;
+  SelectionOptions selection = [] {
+    SelectionOptions o;
+    o.fit_when_consistent = false;  // each fit costs minutes of fast-mode runs
+    return o;
+  }();
   double z_significance = 5.0;  // a row's chi-square beyond dof + z sqrt(2 dof) is significant
 };
 

@@ -5,6 +5,7 @@
 
 #include "analysis/diagnosis.hpp"
 #include "analysis/mbd_model.hpp"
+#include "analysis/param_set.hpp"
 #include "analysis/sensor_model.hpp"
 #include "core/config.hpp"
 #include "core/units.hpp"
@@ -95,4 +96,58 @@ TEST(DiagMbd, EffectHelpersRejectUnknownNames) {
   // w dt kept when the speed changes (600 rpm config: 0.667 ms for 1 ms at 400 rpm).
   const auto q = at_speed(base, 600 * core::units::rpm);
   EXPECT_NEAR(q.dt_s * q.drive_speed_rad_s, base.dt_s * base.drive_speed_rad_s, 1e-12);
+}
+
+// With the config's uncertain values as candidates (diagnosis.uncertain of the bed config, inherited from
+// gyp1200_400rpm.yaml): recordings of a mechanism whose parameter set `concealed` differs from the config.
+namespace {
+struct ConfigCase {
+  ConfigModel cfg{std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm_bed.yaml"};
+  std::vector<Term> terms = [this] {
+    auto t = mbd_candidates();
+    for (const auto& u : cfg.uncertain()) t.push_back(u);
+    return t;
+  }();
+  DiagnosisResult run(const ParamSet& concealed, std::uint64_t seed) const {
+    std::vector<Recording> recs;
+    int i = 0;
+    for (double rpm : {400.0, 600.0}) {
+      mbd::SimOptions so;
+      so.duration_s = 2.0;
+      so.settle_s = MbdModelOptions().settle_s;
+      const auto p = at_speed(cfg.mechanism(concealed, terms), rpm * core::units::rpm);
+      SensorErrors e;
+      e.noise_rel = 0.004;
+      e.time_offset_s = 0.017 + 0.011 * i;
+      e.gain = 1.02;
+      e.seed = seed + i;
+      recs.push_back(apply_sensor_errors(from_fields(mbd::simulate(p, so), ""), e));
+      recs.back().source = "rec" + std::to_string(static_cast<int>(rpm));
+      ++i;
+    }
+    return diagnose(recs, make_mbd_model(cfg, terms), terms, options());
+  }
+};
+}  // namespace
+
+TEST(DiagMbd, AFixedConeMassTenPercentLowIsMiscalibratedNotAnOmittedEffect) {
+  const ConfigCase c;
+  ASSERT_GE(c.cfg.uncertain().size(), 5u);
+  const DiagnosisResult r = c.run({{"mbd.fixed_cone.mass_kg", 0.9}}, 300);
+  ASSERT_EQ(r.effect, "miscalibrated") << r.reason << "\n" << diagnosis_markdown(r);
+  ASSERT_EQ(r.named.size(), 1u) << diagnosis_markdown(r);
+  EXPECT_EQ(r.named[0].term.key(), "mbd.fixed_cone.mass_kg");
+  EXPECT_NEAR(r.named[0].value, 0.9, 0.015) << "within 15 % of the 10 % offset";
+  EXPECT_LT(r.after_heldout[0].nrmse_overall, 0.5 * r.before_heldout[0].nrmse_overall);
+}
+
+TEST(DiagMbd, TwoConcealedEffectsAreBothNamedWithUncertainValuesAsCandidates) {
+  const ConfigCase c;
+  const ParamSet concealed = {{"joint_friction", 350.0}, {"absorber_nonlinearity", 8e10}};
+  const DiagnosisResult r = c.run(concealed, 400);
+  ASSERT_EQ(r.named.size(), 2u) << r.reason << "\n" << diagnosis_markdown(r);
+  for (const auto& [name, value] : concealed) {
+    ASSERT_EQ(r.fitted.count(name), 1u) << name << " not named: " << r.effect;
+    EXPECT_NEAR(r.fitted.at(name), value, 0.15 * value) << name;
+  }
 }
