@@ -220,6 +220,7 @@ int main(int argc, char** argv) {
       r.named = d.selection.named;
       r.fitted = d.selection.fitted;
       write_text(dir / "fitted.yaml", fitted_yaml(cfg, r, candidates));
+      if (plots) core::run_plot_script("diagnose", "plot_diagnosis.py", dir.string());
       std::cout << "effect " << d.effect << "\n" << d.reason << "\n";
       for (const auto& c : d.selection.named)
         std::cout << c.term.key() << (c.term.scale ? " x " : " ") << c.value << " +- " << c.sigma << " " << c.term.unit << "\n";

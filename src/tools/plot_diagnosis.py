@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Plots for the mismatch diagnosis: overlay_<i>.png (recording, model before and after the fitted
 effect, per channel) and residual_spectrum.png (residual power by harmonic order of the drive
-frequency, before and after, per channel). Usage: plot_diagnosis.py DIR (written by diagnose)."""
+frequency, before and after, per channel); for a summary recording (diagnose --summary), summary.png (plant,
+model before and after, per compared quantity and speed). Usage: plot_diagnosis.py DIR (written by diagnose)."""
 import glob
 import json
 import os
@@ -17,9 +18,35 @@ LABEL = {"x_m": "x (mm)", "y_m": "y (mm)", "z_m": "z (mm)", "power_W": "power (k
 SCALE = {"x_m": 1e3, "y_m": 1e3, "z_m": 1e3, "power_W": 1e-3, "speed_rad_s": 1.0}
 
 
+def summary_plot(d, diag):
+    qs = sorted(diag["uncertainty_pct"])
+    rows = list(zip(diag["before"], diag["after"]))
+    fig, axes = plt.subplots(1, len(qs), figsize=(4 * len(qs), 4), squeeze=False)
+    for ax, q in zip(axes[0], qs):
+        x = np.arange(len(rows))
+        plant = [b["plant"].get(q, np.nan) for b, _ in rows]
+        err = [abs(p) * diag["uncertainty_pct"][q] / 100 for p in plant]
+        before = [b["model"].get(q, np.nan) for b, _ in rows]
+        after = [a["model"].get(q, np.nan) for _, a in rows]
+        ax.bar(x - 0.27, plant, 0.27, yerr=err, color="k", alpha=0.6, label="plant (1 sigma)")
+        ax.bar(x, before, 0.27, color="r", label="model before")
+        ax.bar(x + 0.27, after, 0.27, color="b", label="model after")
+        ax.set_xticks(x)
+        ax.set_xticklabels(["%.0f rpm" % b["speed_rpm"] for b, _ in rows])
+        ax.set_title(q, fontsize=9)
+    axes[0][0].legend(fontsize=7)
+    fig.suptitle("diagnosis: %s" % diag["effect"], fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(d, "summary.png"), dpi=90)
+    plt.close(fig)
+
+
 def main(d):
     with open(os.path.join(d, "diagnosis.json")) as f:
         diag = json.load(f)
+    if diag.get("input") == "summary":
+        summary_plot(d, diag)
+        return
     names = [c["dataset"] for c in diag["metrics"]["before"]["train"] + diag["metrics"]["before"]["heldout"]]
     for path in sorted(glob.glob(os.path.join(d, "overlay_*.csv"))):
         i = int(os.path.basename(path)[8:-4])
