@@ -20,6 +20,7 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <sys/stat.h>
 #include <cerrno>
 #include <cstring>
@@ -27,6 +28,7 @@
 
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
+#include "core/duration_text.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism_params.hpp"
@@ -106,6 +108,16 @@ class DemNode {
                dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k), dem_->sphere_density(k));
     }
     ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
+    {  // Before it starts: the wall time at the full machine's measured rate (src/coupling/README.md: 8e6
+       // particle-steps/s on 2 cores); the progress lines' ETA then follows this run's own rate.
+      const double n = static_cast<double>(dem_->world().particles().size());
+      const double steps = std::max(0.0, cfg_.run.duration_s - dem_->time()) / dem_->dt();
+      const double threads = cfg_.chamber.threads > 0 ? cfg_.chamber.threads : std::thread::hardware_concurrency();
+      ROS_INFO("dem_node: estimate %s of wall time for %.3f s simulated (%.0f particles now, %.3g DEM steps, at ~4e6 "
+               "particle-steps/s per thread on %.0f threads); the progress lines' ETA follows the real rate",
+               core::duration_text(n * steps / (4e6 * std::max(1.0, threads))).c_str(), cfg_.run.duration_s, n, steps,
+               std::max(1.0, threads));
+    }
     const auto& cr = cfg_.chamber.crushing;
     if (cr.enabled && cr.fragments)
       ROS_INFO("dem_node: crushed spheres break into 4 fragments while these are >= %.1f mm (mass-equivalent) and "
@@ -269,10 +281,10 @@ class DemNode {
     next_progress_ = now + 5.0;
     const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_, done = t - start_sim_;
     const auto p = dem_->product();
-    char eta[32] = "unknown";  // the first line of a (resumed) run has no rate yet
-    if (done > 0) std::snprintf(eta, sizeof eta, "%.0f s", el * (T - t) / done);
+    // The first line of a (resumed) run has no rate yet.
+    const std::string eta = core::duration_text(done > 0 ? el * (T - t) / done : NAN);
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg (crushed %.2f kg; fines bed %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta,
+             "discharged %.2f kg (crushed %.2f kg; fines bed %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta.c_str(),
              dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg,
              p.fines_bed_kg, 1e-3 * dem_->fines_normal_force());
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
