@@ -28,6 +28,9 @@ rosrun inertia_crusher mbd_node _config:="$out/case.yaml" _out:="$out/run" >"$ou
 wait "$dem_pid" || { tail -n 20 "$out/dem.log"; echo "FAIL: dem_node failed"; exit 1; }
 wall=$(/usr/bin/python3 -c "import time; print(f'{time.time() - $start:.1f}')")
 grep -h "simulated" "$out/mbd.log" "$out/dem.log" | sed 's/\x1b\[[0-9;]*m//g'
+# Before the run: a wall-time estimate in h/min/s (issue 21), not a bare count of seconds.
+grep -qE "dem_node: estimate [0-9]+ (d|h|min|s)( [0-9]+ (h|min|s))? of wall time" "$out/dem.log" ||
+  { grep -h "estimate" "$out/dem.log"; echo "FAIL: dem_node printed no wall-time estimate before the run"; exit 1; }
 echo "coupled case wall time: $wall s"
 # One bag, as scripts/crusher run makes it: dem.bag merged into run.bag (mbd.bag: mbd_node's own, for the check).
 cp "$out/run/run.bag" "$out/run/mbd.bag"
