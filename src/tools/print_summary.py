@@ -9,8 +9,11 @@ PAPER = {  # Table 5 of Cheng et al. (2020): EXP and SIM, 400 and 600 rpm
 }
 
 
-def fmt(v, nd=2):
-    return "n/a" if v is None else f"{v:.{nd}f}"
+STEADY_CYCLES = 20  # fewer whole drive cycles after the settle: the figures are marked "not steady"
+
+
+def fmt(v, nd=2, mark=""):
+    return "n/a" if v is None else f"{v:.{nd}f}{mark}"
 
 
 def main(path):
@@ -37,17 +40,21 @@ def main(path):
     drive = f"{rpm:.0f} rpm" if cycles > 0 else "n/a"
     print(f"\nRun summary ({s.get('config', '')}, load {s.get('load', '')}, drive {drive}, "
           f"{s['simulated_s']:.2f} s simulated in {s['wall_s']:.1f} s)")
+    mark = " *" if 0 < cycles < STEADY_CYCLES or (cycles == 0 and s.get("throughput_tph") is not None) else ""
     if cycles == 0:
         print("no whole drive cycle after the settle yet: amplitude, power and specific energy are n/a")
+    if mark:
+        print(f"* not steady: {cycles} whole drive cycle(s) after the settle, fewer than {STEADY_CYCLES}; "
+              "run longer (--duration) for figures to compare with the plant")
     head = "EXP / paper SIM" + (f" ({min(PAPER, key=lambda r: abs(r - rpm))} rpm)" if ref else "")
     print(f"{'quantity':<28}{'this run':>12}   {head}")
     for name, v, key in rows:
         paper = f"{ref[key][0]} / {ref[key][1]}" if (ref and key) else ""
-        print(f"{name:<28}{fmt(v):>12}   {paper}")
+        print(f"{name:<28}{fmt(v, mark=mark if v is not None else ''):>12}   {paper}")
     if psd:  # summary.json's own figures (run_metrics: P80 interpolated between sieves), not recomputed here
-        print(f"{'P80 (mm)':<28}{fmt(s.get('p80_mm')):>12}")
-        print(f"{'passing 12 mm (%)':<28}{fmt(s.get('passing_12mm_pct')):>12}   index: > 80")
-        print(f"{'passing 1 mm (%)':<28}{fmt(s.get('passing_1mm_pct')):>12}   index: < 3")
+        print(f"{'P80 (mm)':<28}{fmt(s.get('p80_mm'), mark=mark):>12}")
+        print(f"{'passing 12 mm (%)':<28}{fmt(s.get('passing_12mm_pct'), mark=mark):>12}   index: > 80")
+        print(f"{'passing 1 mm (%)':<28}{fmt(s.get('passing_1mm_pct'), mark=mark):>12}   index: < 3")
 
 if __name__ == "__main__":
     if len(sys.argv) != 2:
