@@ -88,9 +88,11 @@ int main(int argc, char** argv) {
       // The run's signals start at the run's start: keep the window after the settle time, its clock from 0.
       RunSignals w;
       const auto& s = r.signals;
+      double t0 = -1;
       for (std::size_t i = 0; i < s.t_s.size(); ++i) {
         if (s.t_s[i] < settle - 1e-9) continue;
-        w.t_s.push_back(s.t_s[i] - settle);
+        if (t0 < 0) t0 = s.t_s[i];
+        w.t_s.push_back(s.t_s[i] - t0);
         w.x_m.push_back(s.x_m[i]);
         w.y_m.push_back(s.y_m[i]);
         w.z_m.push_back(s.z_m[i]);
