@@ -91,7 +91,7 @@ const core::Schema<FlowParams>& flow_schema() {
                  "the rock keeps its compaction between pressings (jams the GYP1200's feed opening)")
         // Chamber candidates of the diagnosis (flow_model.hpp FlowEffects), off by default.
         .boolean("effects.feed_limited.enabled", [](P& p) -> bool& { return p.effects.feed_limited.enabled; },
-                 "the feeder, not the chamber, sets the feed rate (no choke feed)")
+                 "at most a feeder's rate enters the chamber (choke feed below it)")
         .number("effects.feed_limited.max_feed_tph", "t/h", 1.0 / 3.6, 0.1, 1e4,
                 [](P& p) -> double& { return p.effects.feed_limited.max_feed_kg_s; },
                 "feeder rate into the top band (main parameter; below the choke-fed throughput to matter)")

@@ -105,17 +105,16 @@ TEST(BearingFriction, LoadedRunBooksItsDissipationAndTheDrivePaysForIt) {
   EXPECT_EQ(without.bearing_friction, 0.0);
 }
 
-TEST(BearingFriction, TooStiffASmoothingForTheStepIsRefusedByName) {
+TEST(BearingFriction, AFrictionCoefficientOutOfRangeIsRefusedByName) {
   auto p = test_mbd::shipped_mechanism();
   p.effects.bearing_friction.enabled = true;
-  p.effects.bearing_friction.mu = 0.3;
-  p.effects.bearing_friction.regularisation_rad_s = 1e-3;
+  p.effects.bearing_friction.mu = 0.5;
   try {
     mbd::validate(p);
     FAIL() << "expected a throw";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("mbd.effects.bearing_friction.regularisation_rad_s"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("mbd.effects.bearing_friction.mu"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("[0, 0.3]"), std::string::npos) << e.what();
   }
 }
 
