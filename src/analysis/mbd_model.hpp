@@ -19,6 +19,11 @@ struct MbdModelOptions {
 // Candidate effects and the search range of each main parameter, in the units of the YAML keys
 // mbd.effects.<name>.<parameter>.
 std::vector<Term> mbd_candidates();
+// Terms for the bearing, drive and chamber modules (bearing_friction mu 0-0.1, drive_efficiency efficiency 0.5-1
+// (nominal 1), feed_limited max_feed_tph 20-200 (nominal 200: above both choke-fed rates, off), worn_liners
+// setting_increase_mm 0-30), with their plausible ranges; not in mbd_candidates(). The chamber ones act in flow runs
+// only (section "flow"); a feed-limited flow run needs a settle of ~30 s (src/chamber/README.md).
+std::vector<Term> module_candidates();
 // The mechanism's effects with_effect accepts, comma separated (mbd.effects.<name>).
 std::string mbd_effect_names();
 // base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns

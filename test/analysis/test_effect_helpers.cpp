@@ -53,4 +53,38 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
   }
 }
 
+// The module terms go through the diagnosis's config model (ConfigModel::with: YAML keys): each switches its module on
+// at the value given, and at its nominal value leaves it off.
+TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
+  const analysis::ConfigModel cfg(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto terms = analysis::module_candidates();
+  ASSERT_EQ(terms.size(), 4u);
+  for (const auto& t : terms) {
+    EXPECT_TRUE(t.lo <= t.nominal && t.nominal <= t.hi) << t.name;
+    const double v = 0.5 * (t.lo + t.hi);
+    const auto on = cfg.flow_run({{t.name, v}}, terms), off = cfg.flow_run({{t.name, t.nominal}}, terms);
+    const auto& e = on.mech.effects;
+    const auto& f = on.flow.effects;
+    if (t.name == "bearing_friction") {
+      EXPECT_TRUE(e.bearing_friction.enabled);
+      EXPECT_DOUBLE_EQ(e.bearing_friction.mu, v);
+      EXPECT_FALSE(off.mech.effects.bearing_friction.enabled);
+    } else if (t.name == "drive_efficiency") {
+      EXPECT_TRUE(e.drive_efficiency.enabled);
+      EXPECT_DOUBLE_EQ(e.drive_efficiency.efficiency, v);
+      EXPECT_FALSE(off.mech.effects.drive_efficiency.enabled);
+    } else if (t.name == "feed_limited") {
+      EXPECT_TRUE(f.feed_limited.enabled);
+      EXPECT_NEAR(f.feed_limited.max_feed_kg_s, v / 3.6, 1e-12);
+      EXPECT_FALSE(off.flow.effects.feed_limited.enabled);
+    } else if (t.name == "worn_liners") {
+      EXPECT_TRUE(f.worn_liners.enabled);
+      EXPECT_NEAR(f.worn_liners.setting_increase_m, v * 1e-3, 1e-15);
+      EXPECT_FALSE(off.flow.effects.worn_liners.enabled);
+    } else {
+      ADD_FAILURE() << "unexpected term " << t.name;
+    }
+  }
+}
+
 }  // namespace
