@@ -33,7 +33,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
       tr_nut += m.nutation_angle();
       if (i % trace == 0) {
         const auto& f = load.model();
-        const double span = trace * dt, work = m.flows().drive_work;
+        const double span = trace * dt, work = m.flows().motor_input_work;
         std::fprintf(stderr,
                      "t %.2f s: charge %.1f kg, feed %.0f t/h, product %.0f t/h, nutation %.3f deg, power %.1f kW\n",
                      m.time(), f.mass_kg(), (f.fed_kg() - fed0) / span * 3.6, (f.discharged_kg() - out0) / span * 3.6,
@@ -49,7 +49,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
       s.x_m.push_back(tp.displacement.x());
       s.y_m.push_back(tp.displacement.y());
       s.z_m.push_back(tp.displacement.z());
-      s.power_W.push_back(d.power);
+      s.power_W.push_back(d.input_power);  // what the plant logs (effects.drive_efficiency)
       s.speed_rad_s.push_back(d.speed);
     }
   }

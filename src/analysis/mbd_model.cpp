@@ -20,12 +20,47 @@ std::vector<Term> mbd_candidates() {
   return c;
 }
 
+std::vector<Term> module_candidates() {
+  auto term = [](const char* section, const char* name, const char* parameter, const char* unit, double lo, double hi,
+                 double nominal) {
+    Term t;
+    t.kind = Term::Effect;
+    t.section = section;
+    t.name = name;
+    t.parameter = parameter;
+    t.unit = unit;
+    t.lo = lo;
+    t.hi = hi;
+    t.nominal = nominal;
+    return t;
+  };
+  return {
+      // Oiled bronze on steel: hydrodynamic 0.001-0.005, mixed 0.01-0.05, boundary 0.05-0.15 (src/mbd/README.md);
+      // 0.1 adds 90 kW at 400 rpm on the shipped model.
+      term("mbd", "bearing_friction", "mu", "", 0.0, 0.1, 0.0),
+      // Motor 0.93-0.96 x belts 0.95-0.98 near full load, less at part load; 1: the recorded power is the shaft's.
+      term("mbd", "drive_efficiency", "efficiency", "", 0.5, 1.0, 1.0),
+      // The shipped chamber passes 81 t/h at 400 rpm and 57 at 600 choke fed: 200 leaves it choke fed.
+      term("flow", "feed_limited", "max_feed_tph", "t/h", 20.0, 200.0, 200.0),
+      // A liner is changed after a few tens of mm of wear.
+      term("flow", "worn_liners", "setting_increase_mm", "mm", 0.0, 30.0, 0.0),
+  };
+}
+
+std::string mbd_effect_names() {
+  return "joint_friction, absorber_nonlinearity, motor_droop, cardan_misalignment, bearing_friction, "
+         "drive_efficiency";
+}
+
 mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value) {
   mbd::MechanismParams p = base;
   auto& e = p.effects;
   e.joint_friction.enabled = e.absorber_nonlinearity.enabled = e.motor_droop.enabled =
-      e.cardan_misalignment.enabled = false;
+      e.cardan_misalignment.enabled = e.bearing_friction.enabled = e.drive_efficiency.enabled = false;
   if (effect == "none") return p;
+  if (is_flow_effect(effect))
+    throw std::invalid_argument("effect '" + effect + "' is a chamber flow-model effect (flow.effects." + effect +
+                                "), not a mechanism one: it acts in flow runs only (make_recording --load flow)");
   if (effect == "joint_friction") {
     e.joint_friction.enabled = true;
     e.joint_friction.coulomb_Nm = value;
@@ -38,12 +73,39 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
   } else if (effect == "cardan_misalignment") {
     e.cardan_misalignment.enabled = true;
     e.cardan_misalignment.angle_rad = value * M_PI / 180.0;  // YAML: deg
+  } else if (effect == "bearing_friction") {
+    e.bearing_friction.enabled = true;
+    e.bearing_friction.mu = value;  // YAML: mu (the radii keep base's values)
+  } else if (effect == "drive_efficiency") {
+    e.drive_efficiency.enabled = true;
+    e.drive_efficiency.efficiency = value;  // YAML: efficiency (the no-load loss keeps base's value)
   } else {
-    throw std::invalid_argument("unknown effect '" + effect +
-                                "'; accepted: none, joint_friction, absorber_nonlinearity, motor_droop, "
-                                "cardan_misalignment");
+    throw std::invalid_argument("unknown effect '" + effect + "'; accepted: none, " + mbd_effect_names() + " (" +
+                                flow_effect_names() + ": flow runs only)");
   }
   return p;
+}
+
+std::string flow_effect_names() { return "feed_limited, worn_liners"; }
+bool is_flow_effect(const std::string& effect) { return effect == "feed_limited" || effect == "worn_liners"; }
+
+chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value) {
+  chamber::FlowParams f = base;
+  f.effects.feed_limited.enabled = f.effects.worn_liners.enabled = false;
+  if (effect == "feed_limited") {
+    if (!(value > 0)) throw std::invalid_argument("feed_limited: max_feed_tph must be > 0, got " + std::to_string(value));
+    f.effects.feed_limited.enabled = true;
+    f.effects.feed_limited.max_feed_kg_s = value / 3.6;  // YAML: t/h
+  } else if (effect == "worn_liners") {
+    if (!(value >= 0 && value <= 100))
+      throw std::invalid_argument("worn_liners: setting_increase_mm must be in [0, 100], got " + std::to_string(value));
+    f.effects.worn_liners.enabled = true;
+    f.effects.worn_liners.setting_increase_m = value * 1e-3;  // YAML: mm
+  } else if (effect != "none" && (", " + mbd_effect_names() + ",").find(", " + effect + ",") == std::string::npos) {
+    throw std::invalid_argument("unknown effect '" + effect + "'; accepted: none, " + mbd_effect_names() + ", " +
+                                flow_effect_names());
+  }
+  return f;
 }
 
 mbd::MechanismParams at_speed(const mbd::MechanismParams& base, double speed_rad_s) {

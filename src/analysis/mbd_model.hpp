@@ -5,6 +5,7 @@
 
 #include "analysis/diagnosis.hpp"
 #include "analysis/param_set.hpp"
+#include "chamber/flow_model.hpp"
 #include "mbd/mechanism_params.hpp"
 
 namespace analysis {
@@ -18,9 +19,27 @@ struct MbdModelOptions {
 // Candidate effects and the search range of each main parameter, in the units of the YAML keys
 // mbd.effects.<name>.<parameter>.
 std::vector<Term> mbd_candidates();
+// Terms for the bearing, drive and chamber modules (bearing_friction mu 0-0.1, drive_efficiency efficiency 0.5-1
+// (nominal 1), feed_limited max_feed_tph 20-200 (nominal 200: above both choke-fed rates, off), worn_liners
+// setting_increase_mm 0-30), with their plausible ranges; not in mbd_candidates(). The chamber ones act in flow runs
+// only (section "flow"); a feed-limited flow run needs a settle of ~30 s (src/chamber/README.md).
+std::vector<Term> module_candidates();
+// The mechanism's effects with_effect accepts, comma separated (mbd.effects.<name>).
+std::string mbd_effect_names();
 // base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns
-// base with every effect off. Throws std::invalid_argument for an unknown effect name.
+// base with every effect off. Main parameters: joint_friction coulomb_Nm, absorber_nonlinearity cubic_N_per_m3,
+// motor_droop droop_rad_s_per_kNm, cardan_misalignment angle_deg, bearing_friction mu, drive_efficiency efficiency
+// (the effect's other parameters keep base's values). Throws std::invalid_argument for an unknown effect name.
 mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value);
+// The chamber flow model's effects (flow.effects.<name>; they act in flow runs only), comma separated, and whether
+// `effect` is one of them.
+std::string flow_effect_names();
+bool is_flow_effect(const std::string& effect);
+// base with the chamber effect `effect` enabled at main-parameter `value` (YAML units): feed_limited max_feed_tph,
+// worn_liners setting_increase_mm (the others keep base's values); "none" or a mechanism effect: every chamber effect
+// off. Throws std::invalid_argument for an unknown name. with_effect refuses a chamber effect by name (it has nothing
+// to switch on in the mechanism): give the mechanism "none" and the flow parameters the effect.
+chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value);
 // base driven at `speed_rad_s`, the time step scaled to keep the drive rotation per step (w dt) of the
 // base config (the 400 and 600 rpm configs differ so), never above the base step.
 mbd::MechanismParams at_speed(const mbd::MechanismParams& base, double speed_rad_s);

@@ -88,7 +88,23 @@ const core::Schema<FlowParams>& flow_schema() {
                  })
         .boolean("prefill", [](P& p) -> bool& { return p.prefill; }, "start with the chamber full of loose feed")
         .boolean("compaction_memory", [](P& p) -> bool& { return p.compaction_memory; },
-                 "the rock keeps its compaction between pressings (jams the GYP1200's feed opening)");
+                 "the rock keeps its compaction between pressings (jams the GYP1200's feed opening)")
+        // Chamber candidates of the diagnosis (flow_model.hpp FlowEffects), off by default.
+        .boolean("effects.feed_limited.enabled", [](P& p) -> bool& { return p.effects.feed_limited.enabled; },
+                 "at most a feeder's rate enters the chamber (choke feed below it)")
+        .number("effects.feed_limited.max_feed_tph", "t/h", 1.0 / 3.6, 0.1, 1e4,
+                [](P& p) -> double& { return p.effects.feed_limited.max_feed_kg_s; },
+                "feeder rate into the top band (main parameter; below the choke-fed throughput to matter)")
+        .boolean("effects.worn_liners.enabled", [](P& p) -> bool& { return p.effects.worn_liners.enabled; },
+                 "the concave worn over the lower chamber: the setting wider toward the discharge")
+        .number("effects.worn_liners.setting_increase_mm", "mm", u::mm, 0.0, 100.0,
+                [](P& p) -> double& { return p.effects.worn_liners.setting_increase_m; },
+                "wear depth at the discharge (main parameter; a liner is replaced after ~10-30 mm)")
+        .number("effects.worn_liners.worn_height_fraction", "", 1, 0.01, 1.0,
+                [](P& p) -> double& { return p.effects.worn_liners.worn_height_fraction; },
+                "height of the worn zone over the chamber's height, from the discharge up (wear 0 at its top)");
+    k.flow_style("effects.feed_limited");
+    k.flow_style("effects.worn_liners");
     return k;
   }();
   return s;

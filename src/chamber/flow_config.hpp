@@ -10,6 +10,9 @@
 //     sieves_mm: [1, 2, ..., 63]          # ascending
 //     feed_passing_pct: [...]             # cumulative feed passing each sieve (default: -50 mm, (x/50)^2.5)
 //     prefill: true                       # start with the chamber full of loose feed
+//     effects:                            # chamber candidates of the diagnosis, off by default
+//       feed_limited: {enabled: false, max_feed_tph: 60}
+//       worn_liners: {enabled: false, setting_increase_mm: 10, worn_height_fraction: 0.5}
 //
 //   flow_material:                        # (the file; also the `material:` mapping above)
 //     solid_density_kg_m3: 2600

@@ -1,5 +1,7 @@
 #include "chamber/flow_model.hpp"
 
+#include "chamber/liner_wear.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -49,7 +51,15 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   auto hi = [](const core::Profile& q) { return std::max(q.z.front(), q.z.back()); };
   const double z_lo = std::max(lo(mantle), lo(concave)), z_hi = std::min(hi(mantle), hi(concave));
   require(z_hi > z_lo, "the mantle and the concave share no height");
-  cells_ = core::concave_cells(concave, z_lo, z_hi, p.bands, p.sectors);
+  const auto& fl = p.effects.feed_limited;
+  require(!fl.enabled || (fl.max_feed_kg_s > 0 && std::isfinite(fl.max_feed_kg_s)),
+          "effects.feed_limited.max_feed_tph must be > 0");
+  const auto& wl = p.effects.worn_liners;
+  require(!wl.enabled || (wl.setting_increase_m >= 0 && wl.setting_increase_m <= 0.1 && wl.worn_height_fraction > 0 &&
+                          wl.worn_height_fraction <= 1),
+          "effects.worn_liners needs setting_increase_mm in [0, 100] and worn_height_fraction in (0, 1]");
+  cells_ = core::concave_cells(wl.enabled ? worn_concave(concave, z_lo, z_hi, wl) : concave, z_lo, z_hi, p.bands,
+                               p.sectors);
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
@@ -268,11 +278,21 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     for (std::size_t j = 0; j < C; ++j) pass_[j] /= movable;
     send_down(k, kg, pass_.data(), 0.0);
   }
-  // Choke feed into the free cells of the top band.
-  for (std::size_t k = cells() - S; p_.choke_feed && k < cells(); ++k) {
-    if (pressure_[k] > 0) continue;
-    const double room = rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k);
-    if (room > 0) fill(k, room);
+  // Choke feed into the free cells of the top band; a limited feed shares its rate h over their room.
+  if (p_.choke_feed) {
+    double share = 1.0;
+    if (p_.effects.feed_limited.enabled) {
+      double room = 0;
+      for (std::size_t k = cells() - S; k < cells(); ++k)
+        if (pressure_[k] <= 0) room += std::max(0.0, rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k));
+      const double budget = p_.effects.feed_limited.max_feed_kg_s * h;
+      if (room > budget) share = budget / room;
+    }
+    for (std::size_t k = cells() - S; k < cells(); ++k) {
+      if (pressure_[k] > 0) continue;
+      const double room = rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k);
+      if (room > 0) fill(k, room * share);
+    }
   }
   return out;
 }

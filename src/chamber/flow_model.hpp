@@ -21,7 +21,8 @@
 //    moves with it; from the bottom band it is discharged as product. So the fall per cycle is bounded by the
 //    opening time, and the capacity falls with the speed (chamber_models.md section 1).
 //  - Feed: choke feed; the top band takes feed of the given size distribution up to its loose capacity whenever it
-//    is free, so the feed rate is an output.
+//    is free, so the feed rate is an output (effects.feed_limited: at most a feeder's rate).
+//  - Liners: new, or the concave worn over the lower chamber (effects.worn_liners, liner_wear.hpp).
 //  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -53,6 +54,25 @@ inline double solid_compaction_limit(double loose_fraction) { return 1.0 - loose
 // The paper's -50 mm marble feed (section 3.2), taken as P(x) = (x / 50 mm)^2.5 below 50 mm: fraction passing.
 std::vector<double> default_feed_passing(const std::vector<double>& sieves_m);
 
+// Chamber candidates of the diagnosis (flow.effects.<name>; off by default, the shipped model is choke fed on new
+// liners). feed_limited: the feeder, not the chamber, sets the rate: at most max_feed_kg_s enters the top band's free
+// cells (shared by their room; what they cannot take in a step is not carried over). worn_liners: the concave worn over
+// the lower part of the chamber (liner_wear.hpp): the setting wider by setting_increase_m at the discharge, the wear
+// falling linearly to 0 at worn_height_fraction of the chamber's height above it.
+struct FeedLimited {
+  bool enabled = false;
+  double max_feed_kg_s = 0.0;  // config: max_feed_tph
+};
+struct WornLiners {
+  bool enabled = false;
+  double setting_increase_m = 0.0;    // config: setting_increase_mm (normal wear depth at the discharge)
+  double worn_height_fraction = 0.5;  // of the shared height of mantle and concave, from the bottom
+};
+struct FlowEffects {
+  FeedLimited feed_limited;
+  WornLiners worn_liners;
+};
+
 struct FlowParams {
   int bands = 30, sectors = 16;
   std::vector<double> sieves_m{1e-3, 2e-3, 4e-3, 8e-3, 12e-3, 16e-3, 22.4e-3, 31.5e-3, 40e-3, 50e-3, 63e-3};
@@ -67,6 +87,7 @@ struct FlowParams {
   bool compaction_memory = false;
   std::string material_file;  // config: flow.material_file as given ("" none); its values are in `material`
   FlowMaterial material;
+  FlowEffects effects;
   FlowParams();
 };
 

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "mbd/chamber_forces.hpp"
+#include "mbd/drive_efficiency.hpp"
 #include "mbd/mechanism_impl.hpp"
 
 namespace mbd {
@@ -137,6 +138,10 @@ void Mechanism::Impl::build() {
   dJointSetHingeParam(o7, dParamFMax, droop ? 0.0 : p.drive_max_torque_Nm);
   dJointSetHingeParam(o7, dParamVel, 0.0);
   dJointSetFeedback(o7, &o7_feedback);
+  if (p.effects.bearing_friction.enabled) {  // the bearings' loads (output only: the dynamics do not change)
+    dJointSetFeedback(o1, &o1_feedback);
+    dJointSetFeedback(o3, &o3_feedback);
+  }
 
   b1_rest = pos(0);
   tp_rest = p.test_point_m;
@@ -254,6 +259,26 @@ void Mechanism::Impl::apply_and_step() {
     dBodyAddTorque(body[2], t_jf3.x(), t_jf3.y(), t_jf3.z());
   }
 
+  // ---- bearing friction effect: mu r |reaction| in O3 (about the axis) and O1 (all axes) ----
+  // The reaction is the previous step's constraint force (dJointFeedback is written by dWorldStep): the explicit
+  // force-then-step order of the other loads. O3's force is radial (the piston joint leaves the axis free); its
+  // tilting moment is not counted (the vibrator's force acts at the bushing's centre).
+  Eigen::Vector3d t_bf1 = Eigen::Vector3d::Zero(), t_bf3 = Eigen::Vector3d::Zero();
+  if (p.effects.bearing_friction.enabled) {
+    const auto& bf = p.effects.bearing_friction;
+    auto coulomb = [&](const Eigen::Vector3d& wrel, double t_max) -> Eigen::Vector3d {
+      const double n = wrel.norm();
+      if (n < 1e-15 || t_max <= 0) return Eigen::Vector3d::Zero();
+      return -t_max * std::tanh(n / bf.regularisation_rad_s) / n * wrel;
+    };
+    const Eigen::Vector3d ax = rot(1).col(2);
+    t_bf3 = coulomb(ax * ax.dot(avel(2) - avel(1)), bf.mu * bf.bushing_radius_m * vec(o3_feedback.f1).norm());
+    t_bf1 = coulomb(avel(1) - avel(0), bf.mu * bf.sphere_radius_m * vec(o1_feedback.f1).norm());
+    dBodyAddTorque(body[1], t_bf1.x() - t_bf3.x(), t_bf1.y() - t_bf3.y(), t_bf1.z() - t_bf3.z());
+    dBodyAddTorque(body[0], -t_bf1.x(), -t_bf1.y(), -t_bf1.z());
+    dBodyAddTorque(body[2], t_bf3.x(), t_bf3.y(), t_bf3.z());
+  }
+
   // ---- external (particle) wrenches ----
   for (int i = 0; i < kBodyCount; ++i) {
     dBodyAddForce(body[i], ext_f[i].x(), ext_f[i].y(), ext_f[i].z());
@@ -289,7 +314,9 @@ void Mechanism::Impl::apply_and_step() {
   Eigen::Vector3d vm[kBodyCount], wm[kBodyCount];
   for (int i = 0; i < kBodyCount; ++i) vm[i] = 0.5 * (v0[i] + lvel(i)), wm[i] = 0.5 * (w0[i] + avel(i));
   torque = droop ? droop_torque : vec(o7_feedback.t1).dot(drive_axis);
-  audit.drive_work += torque * wm[5].dot(drive_axis) * dt;
+  const double w_drive = wm[5].dot(drive_axis);
+  audit.drive_work += torque * w_drive * dt;
+  audit.motor_input_work += motor_input_power(p.effects.drive_efficiency, torque * w_drive, w_drive) * dt;
   audit.absorber_dissipation -= (f_abs.dot(vm[0]) + t_abs.dot(wm[0])) * dt;
   auto diss = [&](int i, const Wrench& w) { return -(w.f_diss.dot(vm[i]) + w.t_diss.dot(wm[i])) * dt; };
   audit.contact_dissipation += diss(1, cf.contact_on_mantle) + diss(0, cf.contact_on_concave);
@@ -300,6 +327,8 @@ void Mechanism::Impl::apply_and_step() {
   }
   audit.joint_friction_dissipation -=
       (t_jf1.dot(wm[1] - wm[0]) + t_jf3.dot(wm[2] - wm[1])) * dt;
+  audit.bushing_friction_dissipation -= t_bf3.dot(wm[2] - wm[1]) * dt;
+  audit.sphere_friction_dissipation -= t_bf1.dot(wm[1] - wm[0]) * dt;
   for (int i = 0; i < kBodyCount; ++i) audit.external_work += (ext_f[i].dot(vm[i]) + ext_t[i].dot(wm[i])) * dt;
   // Test point kinematics
   const Eigen::Matrix3d R1 = rot(0);
@@ -419,6 +448,7 @@ DriveState Mechanism::drive() const {
   d.speed = dJointGetHingeAngleRate(impl_->o7);
   d.torque = impl_->torque;
   d.power = d.torque * d.speed;
+  d.input_power = motor_input_power(impl_->p.effects.drive_efficiency, d.power, d.speed);
   return d;
 }
 

@@ -53,7 +53,8 @@ struct TestPointState {
 struct DriveState {
   double speed;   // rad/s, drive shaft about its axis
   double torque;  // N m, applied by the motor to the drive shaft
-  double power;   // W = torque x speed
+  double power;   // W = torque x speed (the drive shaft's power)
+  double input_power;  // W, the motor's input power as a plant logs it (effects.drive_efficiency; = power when off)
 };
 
 // Cumulative energy audit since construction (J) and the current mechanical energy.
@@ -63,11 +64,15 @@ struct EnergyAudit {
   double contact_dissipation = 0;    // Eq. 11 damping + Eq. 13-15 friction
   double bed_dissipation = 0;        // bed viscosity + bed friction
   double joint_friction_dissipation = 0;
+  double bushing_friction_dissipation = 0;    // effects.bearing_friction in O3
+  double sphere_friction_dissipation = 0;     // effects.bearing_friction in O1
   double external_work = 0;          // work of set_particle_wrench loads
+  double motor_input_work = 0;       // integral of the motor's input power (effects.drive_efficiency; = drive_work when off)
   double kinetic = 0, gravity_potential = 0, elastic_potential = 0;  // current
   double mechanical_energy() const { return kinetic + gravity_potential + elastic_potential; }
   double dissipation() const {
-    return absorber_dissipation + contact_dissipation + bed_dissipation + joint_friction_dissipation;
+    return absorber_dissipation + contact_dissipation + bed_dissipation + joint_friction_dissipation +
+           bushing_friction_dissipation + sphere_friction_dissipation;
   }
 };
 

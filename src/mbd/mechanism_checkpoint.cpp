@@ -12,6 +12,9 @@
 //   ENRG  energy audit
 //   BEDS  hysteretic bed: stored energy booked, memory (both buffers: they alternate every step)
 //   SRCH  contact search: last closest azimuth sample per mantle profile vertex
+//   EFX2  only with effects.bearing_friction or effects.drive_efficiency on (the parameters say which, so files of
+//         configs without them keep the version-1 layout): O1 and O3 joint feedback (the bearings' lagged loads),
+//         the bushing and sphere friction dissipation, the motor input work
 //   MEND
 //
 // Orientation, bit for bit: ODE integrates q, normalises it (dNormalize4) and sets R = dQtoR(q). Its setters
@@ -79,7 +82,24 @@ struct Staged {
   double bed_stored_booked = 0;
   BedState bed_state, bed_next;
   std::vector<int32_t> search;
+  dJointFeedback o1_feedback{}, o3_feedback{};
 };
+
+bool has_effects_block(const MechanismParams& p) {
+  return p.effects.bearing_friction.enabled || p.effects.drive_efficiency.enabled;
+}
+void put_feedback(core::BinaryWriter& w, const dJointFeedback& f) {
+  w.put_doubles(f.f1, 3);
+  w.put_doubles(f.t1, 3);
+  w.put_doubles(f.f2, 3);
+  w.put_doubles(f.t2, 3);
+}
+void get_feedback(core::BinaryReader& r, dJointFeedback& f) {
+  r.get_doubles(f.f1, 3);
+  r.get_doubles(f.t1, 3);
+  r.get_doubles(f.f2, 3);
+  r.get_doubles(f.t2, 3);
+}
 
 void put_audit(core::BinaryWriter& w, const EnergyAudit& a) {
   for (double v : {a.drive_work, a.absorber_dissipation, a.contact_dissipation, a.bed_dissipation,
@@ -156,6 +176,15 @@ void Mechanism::save_state(core::BinaryWriter& w) const {
   w.tag("SRCH");
   const std::vector<int>& k = m.chamber.contact_search_state();
   w.put_vec(std::vector<int32_t>(k.begin(), k.end()));
+
+  if (has_effects_block(m.p)) {
+    w.tag("EFX2");
+    put_feedback(w, m.o1_feedback);
+    put_feedback(w, m.o3_feedback);
+    w.put<double>(m.audit.bushing_friction_dissipation);
+    w.put<double>(m.audit.sphere_friction_dissipation);
+    w.put<double>(m.audit.motor_input_work);
+  }
 
   w.tag("MEND");
 }
@@ -246,6 +275,17 @@ void Mechanism::load_state(core::BinaryReader& r) {
   for (int32_t k : s.search)
     if (k < 0 || k >= m.p.sampling.azimuth) r.fail("contact search sample " + std::to_string(k) + " out of range");
 
+  if (has_effects_block(m.p)) {
+    r.expect("EFX2");
+    get_feedback(r, s.o1_feedback);
+    get_feedback(r, s.o3_feedback);
+    s.audit.bushing_friction_dissipation = r.get<double>();
+    s.audit.sphere_friction_dissipation = r.get<double>();
+    s.audit.motor_input_work = r.get<double>();
+  } else {
+    s.audit.motor_input_work = s.audit.drive_work;  // no drive losses: the motor's input is the shaft's work
+  }
+
   r.expect("MEND");
 
   // ---- everything read and checked: apply ----
@@ -265,6 +305,8 @@ void Mechanism::load_state(core::BinaryReader& r) {
   dJointSetAMotorParam(m.o4_rot, dParamVel, s.amotor_vel);
   dJointSetAMotorParam(m.o4_rot, dParamVel2, s.amotor_vel2);
   m.o7_feedback = s.feedback;
+  m.o1_feedback = s.o1_feedback;
+  m.o3_feedback = s.o3_feedback;
   m.t = s.t;
   m.t_before = s.t_before;
   m.steps = static_cast<long>(s.steps);

@@ -39,6 +39,7 @@ struct Mechanism::Impl {
   dJointID o1 = nullptr, o2 = nullptr, o3 = nullptr, o4_dist = nullptr, o4_rot = nullptr, o5 = nullptr,
            o6 = nullptr, o7 = nullptr;
   dJointFeedback o7_feedback{};
+  dJointFeedback o1_feedback{}, o3_feedback{};  // bearing-friction effect: the joints' reactions of the last step
   double t = 0;
   double t_before = 0;  // time run before the clock was set back to 0 (warm start)
   long steps = 0;

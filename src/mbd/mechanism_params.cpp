@@ -174,8 +174,38 @@ const core::Schema<MechanismParams>& mechanism_schema() {
         .boolean("effects.cardan_misalignment.enabled",
                  [](P& p) -> bool& { return p.effects.cardan_misalignment.enabled; }, "drive shaft tilted about O6")
         .number("effects.cardan_misalignment.angle_deg", "deg", u::deg, 0.0, 40.0,
-                [](P& p) -> double& { return p.effects.cardan_misalignment.angle_rad; }, "tilt angle");
-    for (const char* e : {"joint_friction", "absorber_nonlinearity", "motor_droop", "cardan_misalignment"})
+                [](P& p) -> double& { return p.effects.cardan_misalignment.angle_rad; }, "tilt angle")
+        .boolean("effects.bearing_friction.enabled", [](P& p) -> bool& { return p.effects.bearing_friction.enabled; },
+                 "Coulomb friction mu r |reaction| in the bushing O3 and the spherical support O1")
+        .number("effects.bearing_friction.mu", "", 1, 0.0, 0.3,
+                [](P& p) -> double& { return p.effects.bearing_friction.mu; },
+                "friction coefficient (main parameter; oiled bronze on steel: hydrodynamic 0.001-0.005, mixed "
+                "0.01-0.05, boundary 0.05-0.15)")
+        .number("effects.bearing_friction.bushing_radius_mm", "mm", u::mm, 10.0, 500.0,
+                [](P& p) -> double& { return p.effects.bearing_friction.bushing_radius_m; },
+                "O3 bushing (pin) radius; estimated 100 mm: a 200 mm shaft in a ~300 mm half-disc vibrator")
+        .number("effects.bearing_friction.sphere_radius_mm", "mm", u::mm, 0.0, 2000.0,
+                [](P& p) -> double& { return p.effects.bearing_friction.sphere_radius_m; },
+                "O1 spherical support radius (0: no friction in O1); estimated 400 mm")
+        .number("effects.bearing_friction.regularisation_rad_s", "rad/s", 1, 1e-4, 10.0,
+                [](P& p) -> double& { return p.effects.bearing_friction.regularisation_rad_s; },
+                "Coulomb law smoothed as tanh(w_rel / w_eps)")
+        .boolean("effects.drive_efficiency.enabled", [](P& p) -> bool& { return p.effects.drive_efficiency.enabled; },
+                 "reported power = motor input: shaft power / efficiency + no-load loss")
+        .number("effects.drive_efficiency.efficiency", "", 1, 0.3, 1.0,
+                [](P& p) -> double& { return p.effects.drive_efficiency.efficiency; },
+                "motor terminals to drive shaft (main parameter; motor 0.93-0.96 x belts 0.95-0.98)")
+        .number("effects.drive_efficiency.no_load_kW", "kW", 1e3, 0.0, 1e3,
+                [](P& p) -> double& { return p.effects.drive_efficiency.no_load_W; },
+                "no-load loss (motor iron, windage, bearings) at reference_rpm")
+        .number("effects.drive_efficiency.reference_rpm", "rpm", u::rpm, 1.0, 5000.0,
+                [](P& p) -> double& { return p.effects.drive_efficiency.reference_speed_rad_s; },
+                "drive speed at which no_load_kW holds")
+        .number("effects.drive_efficiency.speed_exponent", "", 1, 0.0, 4.0,
+                [](P& p) -> double& { return p.effects.drive_efficiency.speed_exponent; },
+                "no-load loss ~ (speed / reference)^exponent");
+    for (const char* e : {"joint_friction", "absorber_nonlinearity", "motor_droop", "cardan_misalignment",
+                          "bearing_friction", "drive_efficiency"})
       k.flow_style(std::string("effects.") + e);
     return k;
   }();
@@ -330,6 +360,22 @@ void validate(const MechanismParams& p, bool with_bed) {
       bad("effects.motor_droop.droop_rad_s_per_kNm", p.effects.motor_droop.droop_rad_s_per_Nm * 1e3, s.str());
     }
   }
+  if (p.effects.bearing_friction.enabled) {
+    const auto& bf = p.effects.bearing_friction;
+    range("effects.bearing_friction.mu", bf.mu, 0.0, 0.3);
+    range("effects.bearing_friction.bushing_radius_mm", bf.bushing_radius_m * 1e3, 10.0, 500.0, "mm");
+    range("effects.bearing_friction.sphere_radius_mm", bf.sphere_radius_m * 1e3, 0.0, 2000.0, "mm");
+    range("effects.bearing_friction.regularisation_rad_s", bf.regularisation_rad_s, 1e-4, 10.0, "rad/s");
+    // No step bound for the smoothing: the bushing slips at about the drive speed and O1 at the nutation rate, never
+    // near zero for long; mu 0.3 with w_eps 0.005 rad/s runs stably at 400 and 600 rpm (bed, idle and flow).
+  }
+  if (p.effects.drive_efficiency.enabled) {
+    const auto& de = p.effects.drive_efficiency;
+    range("effects.drive_efficiency.efficiency", de.efficiency, 0.3, 1.0);
+    range("effects.drive_efficiency.no_load_kW", de.no_load_W / 1e3, 0.0, 1e3, "kW");
+    range("effects.drive_efficiency.reference_rpm", de.reference_speed_rad_s / u::rpm, 1.0, 5000.0, "rpm");
+    range("effects.drive_efficiency.speed_exponent", de.speed_exponent, 0.0, 4.0);
+  }
   std::string element;
   const double bound = stable_step_bound(p, &element, with_bed);
   if (p.dt_s > bound) {
@@ -342,6 +388,11 @@ void validate(const MechanismParams& p, bool with_bed) {
 std::string to_yaml(const MechanismParams& p) {
   YAML::Node root;
   root["mbd"] = mechanism_schema().write(p);
+  // Effects added after the checkpoint format was fixed are written only when on, so that the fingerprint of a
+  // config without them stays what older checkpoints hold (test ConfigSchema.MechanismFingerprintIsUnchanged).
+  YAML::Node effects = root["mbd"]["effects"];
+  if (!p.effects.bearing_friction.enabled) effects.remove("bearing_friction");
+  if (!p.effects.drive_efficiency.enabled) effects.remove("drive_efficiency");
   YAML::Emitter e;
   e << root;
   return std::string(e.c_str()) + "\n";

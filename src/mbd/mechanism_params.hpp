@@ -78,11 +78,35 @@ struct CardanMisalignment {  // drive shaft axis tilted by angle about the unive
   bool enabled = false;
   double angle_rad = 0.0;  // config: angle_deg
 };
+// Load-proportional (Coulomb) friction of the plain bearings, the joint friction of RecurDyn / Adams: torque
+// mu x r x |joint reaction force| against the relative rotation (tanh-smoothed), in the vibrator's bushing O3
+// (r = bushing radius, about the axis) and the spherical support O1 (r = sphere radius, all three axes). The reaction
+// is the previous step's constraint force (dJointFeedback). Main parameter: mu (only mu x r enters; the radii are
+// fixed estimates, src/mbd/README.md). Its power grows as w^3 (bushing load ~ m e w^2, sliding speed ~ w).
+struct BearingFriction {
+  bool enabled = false;
+  double mu = 0.0;
+  double bushing_radius_m = 0.10;   // config: bushing_radius_mm (O3)
+  double sphere_radius_m = 0.40;    // config: sphere_radius_mm (O1; 0: no friction in O1)
+  double regularisation_rad_s = 0.05;
+};
+// The drive between the motor's terminals and the drive shaft (mbd/drive_efficiency.hpp): the plant logs the motor's
+// input power = shaft power / efficiency + a no-load loss P0 (w / w_ref)^k (with regeneration, shaft power x
+// efficiency). A measurement transform: the motion is unchanged; DriveState::input_power and the recordings follow it.
+struct DriveEfficiency {
+  bool enabled = false;
+  double efficiency = 1.0;
+  double no_load_W = 0.0;                                             // config: no_load_kW, at the reference speed
+  double reference_speed_rad_s = 400.0 * 2.0 * 3.14159265358979323846 / 60.0;  // config: reference_rpm
+  double speed_exponent = 2.0;
+};
 struct Effects {
   JointFriction joint_friction;
   AbsorberNonlinearity absorber_nonlinearity;
   MotorDroop motor_droop;
   CardanMisalignment cardan_misalignment;
+  BearingFriction bearing_friction;
+  DriveEfficiency drive_efficiency;
 };
 
 struct MechanismParams {

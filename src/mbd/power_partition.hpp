@@ -16,9 +16,11 @@ struct PowerPartition {
   double cone_contact = 0;      // mantle-concave contact, Eq. 11 and 13-15
   double bed = 0;               // equivalent material bed (bed runs)
   double joint_friction = 0;    // effects.joint_friction
+  double bearing_friction = 0;  // effects.bearing_friction: bushing O3 + spherical support O1
+  double motor_input = 0;       // the motor's input power (effects.drive_efficiency; = drive when off): drive + losses
   // drive - (the rest): the rise of the mechanism's kinetic, potential and elastic energy (about 0 over whole
   // cycles at a steady state) and what the integrator gained or lost
-  double residual() const { return drive - load - absorbers - cone_contact - bed - joint_friction; }
+  double residual() const { return drive - load - absorbers - cone_contact - bed - joint_friction - bearing_friction; }
 };
 
 // Mean powers from flows `a` (at time ta) to flows `b` (at tb > ta). Throws std::invalid_argument if tb <= ta.

@@ -34,7 +34,7 @@ Recording simulate(const MechanismParams& params, const SimOptions& o) {
     r.x_m.push_back(tp.displacement.x());
     r.y_m.push_back(tp.displacement.y());
     r.z_m.push_back(tp.displacement.z());
-    r.power_W.push_back(d.power);
+    r.power_W.push_back(d.input_power);  // the logged motor power (= shaft power unless effects.drive_efficiency)
     r.speed_rad_s.push_back(d.speed);
   };
   sample();

@@ -14,7 +14,8 @@ struct SimOptions {
   double settle_s = 4.0;     // simulated and discarded first (drive ramp + absorber transient)
 };
 
-// Test point displacement (m, relative to equilibrium, world), drive power and speed; t_s starts at 0.
+// Test point displacement (m, relative to equilibrium, world), drive power and speed; t_s starts at 0. power_W is
+// the power a plant logs: the motor input (DriveState::input_power, the shaft power unless effects.drive_efficiency).
 struct Recording {
   std::vector<double> t_s, x_m, y_m, z_m, power_W, speed_rad_s;
 };

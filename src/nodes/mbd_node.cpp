@@ -333,7 +333,7 @@ class MbdNode {
     sig_.x_m.push_back(tp.displacement.x());
     sig_.y_m.push_back(tp.displacement.y());
     sig_.z_m.push_back(tp.displacement.z());
-    sig_.power_W.push_back(d.power);
+    sig_.power_W.push_back(d.input_power);  // the run summary: the logged motor power (effects.drive_efficiency)
     sig_.speed_rad_s.push_back(d.speed);
 
     if (with_tf) {

@@ -1,13 +1,17 @@
 // make_recording: a test recording from the model with one concealed effect switched on, plus sensor
 // noise, a time offset and a displacement-gain error. The effect's name is not written to the file.
-//   make_recording --config BASE.yaml --effect NAME|none --value V [--noise-std R] [--time-offset-s S]
-//                  [--gain G] [--seconds S] [--seed N] [--speed-rpm RPM] [--settle-s S] --out FILE.csv
+//   make_recording --config BASE.yaml --effect NAME|none --value V [--load bed|flow] [--noise-std R]
+//                  [--time-offset-s S] [--gain G] [--seconds S] [--seed N] [--speed-rpm RPM] [--settle-s S] --out FILE.csv
 // --noise-std is relative: noise std = R x channel scale (std of the channel, at least 1 % of its mean).
+// --load bed (default): the mechanism with the equivalent bed (mbd::simulate); --load flow: under the chamber flow
+// model (analysis::run_flow, the config's flow: section), the only load the chamber effects act in.
 #include <cstdlib>
 #include <iostream>
 #include <string>
 
+#include "analysis/flow_run.hpp"
 #include "analysis/mbd_model.hpp"
+#include "chamber/flow_config.hpp"
 #include "analysis/sensor_model.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
@@ -19,11 +23,14 @@ using namespace analysis;
 int main(int argc, char** argv) {
   const char* usage =
       "usage: make_recording --config BASE.yaml --effect none|joint_friction|absorber_nonlinearity|motor_droop|"
-      "cardan_misalignment --value V [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
+      "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners --value V [--load bed|flow "
+      "(default bed)] [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
       "[--gain G (default 1)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
       "config)] [--settle-s S (default 4)] --out FILE.csv\n"
-      "  V in the unit of mbd.effects.<name>.<main parameter>: coulomb_Nm, cubic_N_per_m3, droop_rad_s_per_kNm, angle_deg\n";
-  std::string config, effect, out;
+      "  V in the unit of mbd.effects.<name>.<main parameter>: coulomb_Nm, cubic_N_per_m3, droop_rad_s_per_kNm, "
+      "angle_deg, mu, efficiency;\n"
+      "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm\n";
+  std::string config, effect, out, load = "bed";
   double value = 0, seconds = 10, speed_rpm = -1, settle = 4;
   SensorErrors e;
   e.noise_rel = 0.01;
@@ -44,21 +51,56 @@ int main(int argc, char** argv) {
       else if (a == "--seed") e.seed = static_cast<std::uint64_t>(num(0, 1e15));
       else if (a == "--speed-rpm") speed_rpm = num(1, 5000);
       else if (a == "--settle-s") settle = num(0, 60);
+      else if (a == "--load") load = str();
       else if (a == "--out") out = str();
       else if (a == "-h" || a == "--help") { std::cout << usage; return 0; }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
     if (config.empty() || effect.empty() || out.empty()) throw std::invalid_argument("--config, --effect and --out are required");
     if (effect != "none" && !have_value) throw std::invalid_argument("--value is required with --effect " + effect);
-    mbd::MechanismParams p = mbd::load_mechanism_params_file(config);
-    p = with_effect(p, effect, value);
-    if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
-    mbd::validate(p);
-    mbd::SimOptions so;
-    so.duration_s = seconds;
-    so.settle_s = settle;
-    so.load = "bed";
-    Recording model = from_fields(mbd::simulate(p, so), "model");
+    if (load != "bed" && load != "flow")
+      throw std::invalid_argument("--load '" + load + "' is not accepted; accepted: bed, flow");
+    if (is_flow_effect(effect) && load != "flow")
+      throw std::invalid_argument("--effect " + effect + " is a chamber flow-model effect (flow.effects." + effect +
+                                  "): it needs --load flow");
+    Recording model;
+    if (load == "bed") {
+      mbd::MechanismParams p = mbd::load_mechanism_params_file(config);
+      p = with_effect(p, effect, value);
+      if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
+      mbd::validate(p);
+      mbd::SimOptions so;
+      so.duration_s = seconds;
+      so.settle_s = settle;
+      so.load = "bed";
+      model = from_fields(mbd::simulate(p, so), "model");
+    } else {
+      auto cfg = chamber::load_flow_run_config(config);
+      mbd::MechanismParams p = with_effect(cfg.mech, is_flow_effect(effect) ? "none" : effect, value);
+      const chamber::FlowParams f = with_flow_effect(cfg.flow, effect, value);
+      if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
+      mbd::validate(p, false);
+      FlowRunOptions fo;
+      fo.duration_s = seconds;
+      fo.settle_s = settle;
+      fo.sample_hz = 1000;
+      const FlowRunResult r = run_flow(p, f, fo);
+      // The run's signals start at the run's start: keep the window after the settle time, its clock from 0.
+      RunSignals w;
+      const auto& s = r.signals;
+      double t0 = -1;
+      for (std::size_t i = 0; i < s.t_s.size(); ++i) {
+        if (s.t_s[i] < settle - 1e-9) continue;
+        if (t0 < 0) t0 = s.t_s[i];
+        w.t_s.push_back(s.t_s[i] - t0);
+        w.x_m.push_back(s.x_m[i]);
+        w.y_m.push_back(s.y_m[i]);
+        w.z_m.push_back(s.z_m[i]);
+        w.power_W.push_back(s.power_W[i]);
+        w.speed_rad_s.push_back(s.speed_rad_s[i]);
+      }
+      model = from_fields(w, "model");
+    }
     Recording rec = apply_sensor_errors(model, e);
     write_recording_csv(rec, out);
     std::cout << "wrote " << out << " (" << rec.size() << " samples, " << seconds << " s)\n";

@@ -59,6 +59,7 @@ Observables observe(const mbd::Mechanism& m, bool with_energy = true) {
   o.add("drive.speed", d.speed);
   o.add("drive.torque", d.torque);
   o.add("drive.power", d.power);
+  o.add("drive.input_power", d.input_power);
   o.add("nutation", m.nutation_angle());
   o.add("mantle_spin", m.mantle_spin());
   o.add("min_gap", m.min_gap());
@@ -72,6 +73,9 @@ Observables observe(const mbd::Mechanism& m, bool with_energy = true) {
     o.add("energy.contact_dissipation", e.contact_dissipation);
     o.add("energy.bed_dissipation", e.bed_dissipation);
     o.add("energy.joint_friction_dissipation", e.joint_friction_dissipation);
+    o.add("energy.bushing_friction_dissipation", e.bushing_friction_dissipation);
+    o.add("energy.sphere_friction_dissipation", e.sphere_friction_dissipation);
+    o.add("energy.motor_input_work", e.motor_input_work);
     o.add("energy.external_work", e.external_work);
     o.add("energy.kinetic", e.kinetic);
     o.add("energy.gravity_potential", e.gravity_potential);
@@ -154,6 +158,18 @@ TEST(Checkpoint, ContinuationIsBitwiseWithEffectsEnabled) {
   p.effects.cardan_misalignment.enabled = true;
   p.effects.cardan_misalignment.angle_rad = 2.0 * M_PI / 180;
   continuation("effects", p, mbd::LoadModel::Bed, 1.5, 1.0);
+}
+
+// The bearing friction acts with the joints' reactions of the previous step (state the checkpoint keeps) and the
+// drive efficiency integrates the motor's input: both written in their own block.
+TEST(Checkpoint, ContinuationIsBitwiseWithBearingFrictionAndDriveEfficiency) {
+  auto p = test_mbd::shipped_mechanism();
+  p.effects.bearing_friction.enabled = true;
+  p.effects.bearing_friction.mu = 0.03;
+  p.effects.drive_efficiency.enabled = true;
+  p.effects.drive_efficiency.efficiency = 0.9;
+  p.effects.drive_efficiency.no_load_W = 3e3;
+  continuation("bearing friction and drive efficiency", p, mbd::LoadModel::Bed, 1.5, 1.0);
 }
 
 TEST(Checkpoint, ContinuationIsBitwiseWithHeldParticleWrenches) {

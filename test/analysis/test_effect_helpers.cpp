@@ -1,0 +1,90 @@
+// The effect helpers the diagnosis and make_recording use (analysis/mbd_model.hpp) for the new candidates: each name
+// switches on its module at its main parameter in the YAML unit, and only it; chamber effects go to the flow
+// parameters and are refused by the mechanism's helper.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "analysis/mbd_model.hpp"
+
+namespace {
+
+TEST(EffectHelpers, NewMechanismEffectsTakeTheirMainParameterAndSwitchTheOthersOff) {
+  mbd::MechanismParams base;
+  base.effects.joint_friction.enabled = true;
+  base.effects.drive_efficiency.no_load_W = 2e3;  // a secondary parameter of the base is kept
+  const auto b = analysis::with_effect(base, "bearing_friction", 0.02);
+  EXPECT_TRUE(b.effects.bearing_friction.enabled);
+  EXPECT_DOUBLE_EQ(b.effects.bearing_friction.mu, 0.02);
+  EXPECT_FALSE(b.effects.joint_friction.enabled);
+  EXPECT_FALSE(b.effects.drive_efficiency.enabled);
+  const auto d = analysis::with_effect(base, "drive_efficiency", 0.88);
+  EXPECT_TRUE(d.effects.drive_efficiency.enabled);
+  EXPECT_DOUBLE_EQ(d.effects.drive_efficiency.efficiency, 0.88);
+  EXPECT_DOUBLE_EQ(d.effects.drive_efficiency.no_load_W, 2e3);
+  EXPECT_FALSE(d.effects.bearing_friction.enabled);
+  const auto n = analysis::with_effect(b, "none", 0);
+  EXPECT_FALSE(n.effects.bearing_friction.enabled);
+}
+
+TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
+  EXPECT_TRUE(analysis::is_flow_effect("feed_limited"));
+  EXPECT_TRUE(analysis::is_flow_effect("worn_liners"));
+  EXPECT_FALSE(analysis::is_flow_effect("bearing_friction"));
+  chamber::FlowParams base;
+  const auto f = analysis::with_flow_effect(base, "feed_limited", 72.0);
+  EXPECT_TRUE(f.effects.feed_limited.enabled);
+  EXPECT_NEAR(f.effects.feed_limited.max_feed_kg_s, 20.0, 1e-12);  // 72 t/h
+  EXPECT_FALSE(f.effects.worn_liners.enabled);
+  const auto w = analysis::with_flow_effect(f, "worn_liners", 7.5);
+  EXPECT_TRUE(w.effects.worn_liners.enabled);
+  EXPECT_NEAR(w.effects.worn_liners.setting_increase_m, 7.5e-3, 1e-15);
+  EXPECT_FALSE(w.effects.feed_limited.enabled);
+  // A mechanism effect (or none) leaves every chamber effect off.
+  EXPECT_FALSE(analysis::with_flow_effect(w, "bearing_friction", 0.02).effects.worn_liners.enabled);
+  EXPECT_THROW(analysis::with_flow_effect(base, "worn_liner", 1.0), std::invalid_argument);
+  EXPECT_THROW(analysis::with_flow_effect(base, "feed_limited", 0.0), std::invalid_argument);
+  try {
+    analysis::with_effect(mbd::MechanismParams(), "worn_liners", 5.0);
+    FAIL() << "expected a throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("flow.effects.worn_liners"), std::string::npos) << e.what();
+  }
+}
+
+// The module terms go through the diagnosis's config model (ConfigModel::with: YAML keys): each switches its module on
+// at the value given, and at its nominal value leaves it off.
+TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
+  const analysis::ConfigModel cfg(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
+  const auto terms = analysis::module_candidates();
+  ASSERT_EQ(terms.size(), 4u);
+  for (const auto& t : terms) {
+    EXPECT_TRUE(t.lo <= t.nominal && t.nominal <= t.hi) << t.name;
+    const double v = 0.5 * (t.lo + t.hi);
+    const auto on = cfg.flow_run({{t.name, v}}, terms), off = cfg.flow_run({{t.name, t.nominal}}, terms);
+    const auto& e = on.mech.effects;
+    const auto& f = on.flow.effects;
+    if (t.name == "bearing_friction") {
+      EXPECT_TRUE(e.bearing_friction.enabled);
+      EXPECT_DOUBLE_EQ(e.bearing_friction.mu, v);
+      EXPECT_FALSE(off.mech.effects.bearing_friction.enabled);
+    } else if (t.name == "drive_efficiency") {
+      EXPECT_TRUE(e.drive_efficiency.enabled);
+      EXPECT_DOUBLE_EQ(e.drive_efficiency.efficiency, v);
+      EXPECT_FALSE(off.mech.effects.drive_efficiency.enabled);
+    } else if (t.name == "feed_limited") {
+      EXPECT_TRUE(f.feed_limited.enabled);
+      EXPECT_NEAR(f.feed_limited.max_feed_kg_s, v / 3.6, 1e-12);
+      EXPECT_FALSE(off.flow.effects.feed_limited.enabled);
+    } else if (t.name == "worn_liners") {
+      EXPECT_TRUE(f.worn_liners.enabled);
+      EXPECT_NEAR(f.worn_liners.setting_increase_m, v * 1e-3, 1e-15);
+      EXPECT_FALSE(off.flow.effects.worn_liners.enabled);
+    } else {
+      ADD_FAILURE() << "unexpected term " << t.name;
+    }
+  }
+}
+
+}  // namespace

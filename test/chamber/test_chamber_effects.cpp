@@ -1,0 +1,192 @@
+// The chamber candidates of the diagnosis (flow_model.hpp FlowEffects, liner_wear.hpp) against closed forms and
+// clean limits: a feeder below the choke-fed throughput sets the throughput; a worn concave widens the gap by the
+// wear depth (times the liners' slope ratio) and lets more, coarser rock through.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "../common/coaxial_liners.hpp"
+#include "../common/flow_params.hpp"
+#include "chamber/flow_config.hpp"
+#include "chamber/flow_model.hpp"
+#include "chamber/liner_wear.hpp"
+#include "core/config.hpp"
+
+namespace {
+
+const Eigen::Isometry3d kRest = Eigen::Isometry3d::Identity();
+const Eigen::Vector3d kComM(0, 0, -0.5), kComC(0, 0, -0.6);
+
+// The shipped-like cone chamber of test_flow_model's long run (bottom to top).
+void cone(core::Profile* mantle, core::Profile* concave) {
+  mantle->z = {-0.715, -0.2};
+  mantle->r = {0.600, 0.168};
+  concave->z = {-0.760, -0.1};
+  concave->r = {0.662, 0.194};
+}
+
+struct Window {
+  double throughput_kg_s = 0, feed_kg_s = 0, passing_12mm = 0, chamber_kg = 0, crushing_W = 0;
+};
+
+// A gyrating mantle (0.014 rad, 7 Hz) with choke feed: the figures over [t0, t1] s.
+Window gyrate(const chamber::FlowParams& p, double t0, double t1) {
+  core::Profile mantle, concave;
+  cone(&mantle, &concave);
+  chamber::FlowModel m(p, mantle, concave);
+  const double h = 1e-3, w = 2 * M_PI * 7;
+  auto pose = [&](double t) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.014, Eigen::Vector3d(-std::sin(w * t), std::cos(w * t), 0)).toRotationMatrix();
+    return T;
+  };
+  const long n0 = std::lround(t0 / h), n1 = std::lround(t1 / h);
+  std::vector<double> out0;
+  double fed0 = 0, e0 = 0;
+  for (long i = 0; i < n1; ++i) {
+    if (i == n0) out0 = m.discharged_by_class(), fed0 = m.fed_kg(), e0 = m.crushing_energy_J();
+    m.step(pose(i * h), kRest, kComM, kComC, h, 9.81);
+  }
+  std::vector<double> c = m.discharged_by_class();
+  double kg = 0;
+  for (std::size_t j = 0; j < c.size(); ++j) kg += (c[j] -= out0[j]);
+  Window r;
+  r.throughput_kg_s = kg / (t1 - t0);
+  r.feed_kg_s = (m.fed_kg() - fed0) / (t1 - t0);
+  r.passing_12mm = m.passing(c)[4];
+  r.chamber_kg = m.mass_kg();
+  r.crushing_W = (m.crushing_energy_J() - e0) / (t1 - t0);
+  return r;
+}
+
+chamber::FlowParams choke_fed() {
+  chamber::FlowParams p;
+  p.bands = 20;
+  p.sectors = 12;
+  return p;
+}
+
+// A feeder at half the choke-fed throughput: the chamber drains to the level that passes the feed, and then the
+// throughput is the feeder's rate (mass balance), to 2 %; the feed is the rate exactly while the top has room.
+TEST(FeedLimited, AFeederBelowTheChokeThroughputSetsTheThroughput) {
+  const Window choke = gyrate(choke_fed(), 2.0, 4.0);
+  auto p = choke_fed();
+  p.effects.feed_limited.enabled = true;
+  p.effects.feed_limited.max_feed_kg_s = 0.5 * choke.throughput_kg_s;
+  p.prefill = false;  // starts empty: fills to the feed-limited level
+  const Window lim = gyrate(p, 10.0, 16.0);
+  std::printf("feed limited: choke-fed throughput %.3f kg/s (feed %.3f, charge %.1f kg, 12 mm %.3f); feeder %.3f kg/s -> "
+              "throughput %.3f kg/s, feed %.3f kg/s, charge %.1f kg, passing 12 mm %.3f\n",
+              choke.throughput_kg_s, choke.feed_kg_s, choke.chamber_kg, choke.passing_12mm,
+              p.effects.feed_limited.max_feed_kg_s, lim.throughput_kg_s, lim.feed_kg_s, lim.chamber_kg,
+              lim.passing_12mm);
+  const double cap = p.effects.feed_limited.max_feed_kg_s;
+  ASSERT_GT(choke.throughput_kg_s, 0.5);
+  EXPECT_NEAR(lim.feed_kg_s, cap, 1e-9 * cap);
+  EXPECT_NEAR(lim.throughput_kg_s, cap, 0.02 * cap);
+  EXPECT_LT(lim.chamber_kg, choke.chamber_kg);  // a starved chamber holds less rock
+}
+
+// A feeder above what the chamber passes changes nothing that matters: the chamber stays choke fed.
+TEST(FeedLimited, AFeederAboveTheChokeThroughputLeavesTheChamberChokeFed) {
+  const Window choke = gyrate(choke_fed(), 2.0, 3.0);
+  auto p = choke_fed();
+  p.effects.feed_limited.enabled = true;
+  p.effects.feed_limited.max_feed_kg_s = 1e3;
+  const Window lim = gyrate(p, 2.0, 3.0);
+  EXPECT_NEAR(lim.throughput_kg_s, choke.throughput_kg_s, 0.02 * choke.throughput_kg_s);
+}
+
+TEST(WornLiners, WearDepthIsFullAtTheDischargeAndZeroAboveTheWornZone) {
+  chamber::WornLiners w;
+  w.enabled = true;
+  w.setting_increase_m = 0.012;
+  w.worn_height_fraction = 0.4;
+  EXPECT_DOUBLE_EQ(chamber::wear_depth(w, -0.7, -0.2, -0.7), 0.012);
+  EXPECT_NEAR(chamber::wear_depth(w, -0.7, -0.2, -0.5), 0.0, 1e-15);  // the top of the worn zone
+  EXPECT_DOUBLE_EQ(chamber::wear_depth(w, -0.7, -0.2, -0.3), 0.0);
+  EXPECT_NEAR(chamber::wear_depth(w, -0.7, -0.2, -0.6), 0.006, 1e-15);  // linear in between
+}
+
+// The gap each cell sees, new and worn, at rest: it grows by the wear depth times |t_z,mantle| / |t_z,concave| (the
+// concave moved out along its normal by the depth; the gap measured along the mantle's normal), exactly, wherever the
+// gap's foot lies on the mantle (on the cone the bottom bands' gap runs to the mantle's lower edge: more); on coaxial
+// cylinders by the depth itself.
+TEST(WornLiners, TheGapGrowsByTheWearDepthAlongTheChamber) {
+  for (bool cylinders : {true, false}) {
+    core::Profile mantle, concave;
+    if (cylinders) {
+      mantle = test_liners::cylinder(0.30);
+      concave = test_liners::cylinder(0.33);
+    } else {
+      cone(&mantle, &concave);
+    }
+    auto p = test_liners::flow_params(40, 4);
+    auto q = p;
+    q.effects.worn_liners.enabled = true;
+    q.effects.worn_liners.setting_increase_m = 0.010;
+    q.effects.worn_liners.worn_height_fraction = 0.5;
+    chamber::FlowModel m(p, mantle, concave), worn(q, mantle, concave);
+    m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+    worn.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+    auto tz = [](const core::Profile& f) {
+      return std::fabs(f.z[1] - f.z[0]) / std::hypot(f.z[1] - f.z[0], f.r[1] - f.r[0]);
+    };
+    const double slope = tz(mantle) / tz(concave);
+    const double z_lo = m.band_bottom(0), z_hi = m.band_bottom(m.bands());
+    // The mantle's outward normal's z component: the gap's foot lies g n_z below the cell's point.
+    const double n_z = (mantle.r[0] - mantle.r[1]) / std::hypot(mantle.z[1] - mantle.z[0], mantle.r[1] - mantle.r[0]) *
+                       (mantle.z[1] > mantle.z[0] ? 1 : -1);
+    const double mantle_bottom = std::min(mantle.z[0], mantle.z[1]);
+    int checked = 0;
+    for (int b = 0; b < m.bands(); ++b) {
+      const std::size_t k = static_cast<std::size_t>(b) * m.sectors();
+      const double z = m.cell_point(k).z();
+      if (z - worn.cell_gap(k) * n_z < mantle_bottom + 1e-9) continue;  // the foot is the mantle's edge
+      ++checked;
+      const double depth = chamber::wear_depth(q.effects.worn_liners, z_lo, z_hi, z);
+      EXPECT_NEAR(worn.cell_gap(k) - m.cell_gap(k), depth * slope, 1e-12) << (cylinders ? "cylinders" : "cone")
+                                                                            << ", band " << b;
+    }
+    EXPECT_GE(checked, m.bands() - 4);
+    std::printf("worn liners (%s): %d of %d bands on the closed form; bottom band gap %.2f -> %.2f mm (depth there "
+                "%.2f mm, slope ratio %.4f)\n",
+                cylinders ? "cylinders" : "cone", checked, m.bands(), m.cell_gap(0) * 1e3, worn.cell_gap(0) * 1e3,
+                chamber::wear_depth(q.effects.worn_liners, z_lo, z_hi, m.cell_point(0).z()) * 1e3, slope);
+  }
+}
+
+// Gyrating, choke fed: the wider lower chamber lets more rock through, and coarser.
+TEST(WornLiners, AWiderSettingRaisesTheThroughputAndCoarsensTheProduct) {
+  const Window base = gyrate(choke_fed(), 2.0, 4.0);
+  auto p = choke_fed();
+  p.effects.worn_liners.enabled = true;
+  p.effects.worn_liners.setting_increase_m = 0.010;
+  const Window worn = gyrate(p, 2.0, 4.0);
+  std::printf("worn liners 10 mm: throughput %.3f -> %.3f kg/s, passing 12 mm %.3f -> %.3f, crushing %.2f -> %.2f kW\n",
+              base.throughput_kg_s, worn.throughput_kg_s, base.passing_12mm, worn.passing_12mm,
+              base.crushing_W / 1e3, worn.crushing_W / 1e3);
+  EXPECT_GT(worn.throughput_kg_s, 1.05 * base.throughput_kg_s);
+  EXPECT_LT(worn.passing_12mm, base.passing_12mm);
+}
+
+TEST(ChamberEffects, KeysLoadWithTheirUnitsAndBadValuesAreRefusedByName) {
+  const auto f = chamber::load_flow_params(core::ConfigNode::load_string(
+      "effects:\n  feed_limited: {enabled: true, max_feed_tph: 36}\n"
+      "  worn_liners: {enabled: true, setting_increase_mm: 8, worn_height_fraction: 0.3}\n",
+      "test"));
+  EXPECT_TRUE(f.effects.feed_limited.enabled);
+  EXPECT_NEAR(f.effects.feed_limited.max_feed_kg_s, 10.0, 1e-12);
+  EXPECT_NEAR(f.effects.worn_liners.setting_increase_m, 0.008, 1e-15);
+  EXPECT_DOUBLE_EQ(f.effects.worn_liners.worn_height_fraction, 0.3);
+  try {
+    chamber::load_flow_params(
+        core::ConfigNode::load_string("effects:\n  worn_liners: {enabled: true, setting_increase_mm: 300}\n", "test"));
+    FAIL() << "expected a throw";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("setting_increase_mm"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
