@@ -47,6 +47,19 @@ std::vector<Term> module_candidates() {
   };
 }
 
+std::vector<Term> series_candidates() {
+  auto c = mbd_candidates();
+  for (const auto& t : module_candidates())
+    if (t.section == "mbd") c.push_back(t);
+  return c;
+}
+
+std::vector<Term> summary_candidates() {
+  auto c = mbd_candidates();
+  for (const auto& t : module_candidates()) c.push_back(t);
+  return c;
+}
+
 std::string mbd_effect_names() {
   return "joint_friction, absorber_nonlinearity, motor_droop, cardan_misalignment, bearing_friction, "
          "drive_efficiency";

@@ -24,6 +24,11 @@ std::vector<Term> mbd_candidates();
 // setting_increase_mm 0-30), with their plausible ranges; not in mbd_candidates(). The chamber ones act in flow runs
 // only (section "flow"); a feed-limited flow run needs a settle of ~30 s (src/chamber/README.md).
 std::vector<Term> module_candidates();
+// The diagnosis's effect candidates: for time series (the mechanism under the bed load: mbd_candidates() plus
+// bearing_friction and drive_efficiency) and for summaries (the fast mode: those plus the chamber's feed_limited and
+// worn_liners).
+std::vector<Term> series_candidates();
+std::vector<Term> summary_candidates();
 // The mechanism's effects with_effect accepts, comma separated (mbd.effects.<name>).
 std::string mbd_effect_names();
 // base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns

@@ -139,6 +139,8 @@ SummaryModelFn make_flow_summary_model(const ConfigModel& config, const std::vec
     FlowRunOptions o;
     o.duration_s = seconds;
     o.settle_s = settle_s;
+    // A feeder below the choke rate: the prefilled charge drains for tens of seconds first (src/chamber/README.md).
+    if (c.flow.effects.feed_limited.enabled) o.settle_s = std::max(settle_s, 30.0);
     return table5_values(run_flow(c.mech, c.flow, o));
   };
 }

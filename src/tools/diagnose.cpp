@@ -199,7 +199,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("give --recording FILE (time series, one or more) or --summary FILE (averages), not both");
     if (!summary.empty()) {
       const ConfigModel cfg(config);
-      std::vector<Term> candidates = mbd_candidates();
+      // The fast model: every module, the chamber's too (summary_candidates), and the uncertain values.
+      std::vector<Term> candidates = summary_candidates();
       for (const auto& t : cfg.uncertain()) candidates.push_back(t);
       const auto data = read_summary(summary);
       const auto run = cfg.flow_run({}, candidates).run;
@@ -230,7 +231,7 @@ int main(int argc, char** argv) {
 
     const mbd::MechanismParams base = mbd::load_mechanism_params_file(config);
     const ConfigModel cfg(config);  // the model the terms change; its diagnosis.uncertain values are candidates
-    std::vector<Term> candidates = mbd_candidates();
+    std::vector<Term> candidates = series_candidates();
     for (const auto& t : cfg.uncertain()) candidates.push_back(t);
 
     std::vector<Recording> recordings;
