@@ -104,6 +104,7 @@ void information(const std::vector<Comparison>& cs, int k, double& aic_out, doub
   std::vector<double> rss, n;
   for (const auto& c : cs)
     for (const auto& e : c.ch) {
+      if (!e.compared) continue;  // not recorded, or a set point
       rss.push_back(std::max(e.rss, 1e-300));
       n.push_back(e.n);
     }
