@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "analysis/metrics.hpp"
@@ -127,13 +128,23 @@ Dataset prepare_dataset(const Recording& rec, const std::string& label, int K) {
   // The recorded speed may carry noise and ripple; its mean locates the fundamental, the motion and power
   // harmonics pin it down (within +-1 %; +-3 % when the speed is a logged set point, as the real speed
   // may droop or slip below it).
+  // Orders below the recording's Nyquist limit only: a plant logger may sample at a few times the drive
+  // frequency (K orders need more than 2K + 1 samples per period; above that the harmonics alias).
+  const double per_period = 2 * kPi / d.mean_speed / rec.sample_dt_s();
+  K = std::min(K, static_cast<int>(std::ceil(0.5 * per_period - 0.01)) - 1);  // strictly below N / 2
+  if (K < 2) {
+    std::ostringstream m;
+    m << rec.source << ": " << label << " has " << per_period << " samples per drive period (sample step "
+      << rec.sample_dt_s() << " s); at least 6 are needed for two harmonic orders";
+    throw std::invalid_argument(m.str());
+  }
   std::vector<const std::vector<double>*> pins;
   for (int c : {kX, kY, kAx, kAy, kPower, kZ, kAz})
     if (d.use[c].compared && pins.size() < 3) pins.push_back(&rec.channel(c));
   if (pins.empty())
     throw std::invalid_argument(rec.source + ": " + label + " has no test-point motion or power signal to "
                                 "compare (channels not recorded or constant within their resolution)");
-  d.omega = refine_fundamental(rec.t_s, pins, d.mean_speed, d.use[kSpeed].compared ? 0.01 : 0.03, 3);
+  d.omega = refine_fundamental(rec.t_s, pins, d.mean_speed, d.use[kSpeed].compared ? 0.01 : 0.03, std::min(3, K));
   const double n = rec.size();
   for (int c = 0; c < kNumChannels; ++c) {
     if (!d.use[c].compared) continue;
@@ -270,11 +281,12 @@ Comparison compare(const Dataset& d, const ChannelHarmonics& m, const Alignment&
     e.nrmse = nrmse(y, yhat);
     e.fit_percent = fit_percent(e.nrmse);
     // Order breakdown of the residual (fitted at the recording's fundamental).
-    Harmonics hr = fit_harmonics(t, res, d.omega, kFitOrders);
+    const int K = d.H[c].orders();  // at most kFitOrders, fewer below the recording's Nyquist limit
+    Harmonics hr = fit_harmonics(t, res, d.omega, K);
     e.order_residual_power.assign(kReportOrders + 2, 0.0);
     e.order_recording_power.assign(kReportOrders + 2, 0.0);
     double hp = 0;
-    for (int k = 0; k <= kFitOrders; ++k) {
+    for (int k = 0; k <= K; ++k) {
       const int slot = std::min(k, kReportOrders + 1);
       e.order_residual_power[slot] += hr.power(k);
       e.order_recording_power[slot] += k == 0 ? std::norm(d.H[c].C[0]) : d.H[c].power(k);
@@ -286,7 +298,7 @@ Comparison compare(const Dataset& d, const ChannelHarmonics& m, const Alignment&
                                   : 0.0);
     e.harmonic_sigma2 = harmonic_sigma2(d, m[c], c, a.gain);
     e.chi2 = n * hp / e.harmonic_sigma2;
-    e.dof_chi2 = 2 * kFitOrders + 1 - first_order(c);
+    e.dof_chi2 = 2 * K + 1 - first_order(c);
     num += e.rss / e.sigma2;
     den += e.tss / e.sigma2;
   }

@@ -101,7 +101,7 @@ std::string notes(const DiagnosisResult& r) {
 }  // namespace
 
 // Two speeds, displacement in mm, power in kW, speed logged at its set point in rpm, rounded to the
-// logger's steps (not told: estimated from the data), NaN rows and a gap, 500 and 750 Hz.
+// logger's steps (not told: estimated from the data), NaN rows and a gap, 500 and 150 Hz.
 TEST(DiagPlant, ExportOfTheModelItselfGivesNone) {
   const auto base = base_params();
   const PlantFormat f = format("t=time[ms],x=disp_x[mm],y=disp_y[mm],z=disp_z[mm],power=P[kW],speed=n[rpm]",
@@ -113,7 +113,7 @@ TEST(DiagPlant, ExportOfTheModelItselfGivesNone) {
   a.gap_s = 0.23;
   a.seed = 31;
   PlantCase b{600};
-  b.sample_hz = 750;
+  b.sample_hz = 150;  // 15 samples per drive period: orders up to 7 are fitted
   b.noise_rel = 0.002;
   b.missing_rows = 3;
   b.time_offset_s = 0.007;
@@ -130,6 +130,7 @@ TEST(DiagPlant, ExportOfTheModelItselfGivesNone) {
   EXPECT_NEAR(r.heldout[0].setpoint, 600 * core::units::rpm, 1e-9);
   EXPECT_NEAR(r.train[0].use[kX].resolution, 1e-5, 1e-11);
   EXPECT_NEAR(r.train[0].use[kPower].resolution, 100, 1e-6);
+  EXPECT_EQ(r.heldout[0].H[kX].orders(), 7);
   const std::string n = notes(r);
   EXPECT_NE(n.find("row(s) with a missing value skipped"), std::string::npos) << n;
   EXPECT_NE(n.find("gap(s) longer than 1.5 steps"), std::string::npos) << n;
@@ -196,4 +197,23 @@ TEST(DiagPlant, AccelerationOnlyExportNamesConcealedFriction) {
   EXPECT_FALSE(residual_significant(r.after_heldout[0].ch[kAx]));
   EXPECT_NEAR(r.after_train[0].alignment.gain, 0.98, 0.01);
   EXPECT_TRUE(r.train[0].use[kAz].compared);
+}
+
+// The same accelerometers on the model itself, one speed (split in time): nothing to name. (Taking the
+// model's acceleration as -(k w)^2 times its displacement harmonics amplified the leak of the model's slow
+// drift into orders 7-12 and gave `unexplained: az_m_s2 order 7-12` here.)
+TEST(DiagPlant, AccelerationOnlyExportOfTheModelGivesNone) {
+  const auto base = base_params();
+  const PlantFormat f = format("t=t[ms],ax=ax[mm/s^2],ay=ay[mm/s^2],az=az[m/s^2],power=P[kW],speed=n[rpm]",
+                               "ax=5,ay=5,az=0.005,power=0.2");
+  PlantCase c{400};
+  c.noise_rel = 0.002;
+  c.seconds = 3.5;
+  c.time_offset_s = 0.061;
+  c.missing_rows = 6;
+  c.az_bias = 9.80665;
+  c.seed = 64;
+  std::vector<Recording> recs = {plant_recording(base, c, f, without_resolution(f), "acc_none.csv")};
+  DiagnosisResult r = diagnose(recs, make_mbd_model(base), mbd_candidates());
+  EXPECT_EQ(r.effect, "none") << r.reason << "\n" << diagnosis_markdown(r);
 }

@@ -258,6 +258,9 @@ TEST(Quantisation, NoiseFloorHoldsResolutionAndSetPointIsNotFitted) {
   const double qp = 200.0;  // W, ten times the noise
   for (double& p : rec.power_W) p = qp * std::round(p / qp);
   for (double& x : rec.x_m) x = 2e-5 * std::round(x / 2e-5);
+  // z swings over only +-4 steps of its logger: rounding puts a deterministic error on its low harmonics.
+  const double qz = 2.5e-4;  // m
+  for (double& z : rec.z_m) z = qz * std::round(z / qz);
   rec.speed_rad_s.assign(rec.size(), w);
   rec.source = "rec";
   Dataset d = prepare_dataset(rec, "rec");
@@ -270,6 +273,7 @@ TEST(Quantisation, NoiseFloorHoldsResolutionAndSetPointIsNotFitted) {
   EXPECT_NEAR(d.use[kPower].resolution, qp, 1e-9);       // estimated from the data
   EXPECT_GE(d.sigma2[kPower], quantisation_variance(qp) * (1 - 1e-12));
   EXPECT_GT(d.use[kPower].quantisation_systematic, 0.1 * quantisation_variance(qp));
+  EXPECT_GT(d.use[kZ].quantisation_systematic, 0.5 * quantisation_variance(qz));
   Alignment a = align(d, m);
   EXPECT_NEAR(a.tau_s, 0.013, 2e-4);
   Comparison c = compare(d, m, a, "rec");
@@ -312,4 +316,27 @@ TEST(Quantisation, AccelerationOnlyRecordingAlignsLikeDisplacement) {
   ChannelHarmonics wrong = model_harmonics(diagtest::synthetic_run("joint_friction", 300, w, 1.0));
   Comparison cw = compare(d, wrong, align(d, wrong), "acc");
   EXPECT_TRUE(residual_significant(cw.ch[kPower]) || residual_significant(cw.ch[kAx]));
+}
+
+// A logger sampling at a few times the drive frequency: only orders below its Nyquist limit are fitted
+// (with all 12 the least-squares problem is singular and the comparison meaningless); too few samples per
+// period are refused naming the rate.
+TEST(Quantisation, LowSampleRateFitsOrdersBelowNyquist) {
+  const double w = 41.9;  // 6.67 Hz
+  ChannelHarmonics m = model_harmonics(diagtest::synthetic_run("none", 0, w, 1.0));
+  SensorErrors e;
+  e.noise_rel = 0.01;
+  e.time_offset_s = 0.02;
+  e.seed = 5;
+  Recording rec = apply_sensor_errors(diagtest::synthetic_run("none", 0, w, 6.0, 80.0), e);  // 12 per period
+  Dataset d = prepare_dataset(rec, "80 Hz");
+  EXPECT_EQ(d.H[kX].orders(), 5);
+  Alignment a = align(d, m);
+  EXPECT_NEAR(a.tau_s, 0.02, 1e-3);
+  Comparison c = compare(d, m, a, "80 Hz");
+  for (int ch = 0; ch < kNumChannels; ++ch) EXPECT_FALSE(residual_significant(c.ch[ch])) << kChannelNames[ch];
+  EXPECT_EQ(c.ch[kX].dof_chi2, 11);
+  Recording slow = apply_sensor_errors(diagtest::synthetic_run("none", 0, w, 6.0, 25.0), e);  // 3.7 per period
+  const std::string msg = error_of([&] { prepare_dataset(slow, "25 Hz"); });
+  EXPECT_NE(msg.find("samples per drive period"), std::string::npos) << msg;
 }
