@@ -13,9 +13,12 @@ cols='t=Zeit[ms],x=Weg_X[mm],y=Weg_Y[mm],z=Weg_Z[mm],power=P_el[kW],speed=n[rpm]
   --gap 1.5:0.2 --sample-hz 500 --out plant.csv >/dev/null
 head -n 2 plant.csv
 grep -q '^Zeit\[ms\];Weg_X\[mm\]' plant.csv || { echo "FAIL: the export's header: $(head -n 1 plant.csv)"; exit 1; }
-"$bin/diagnose" --recording plant.csv --config "$cfg" --columns "$cols" --delimiter ';' --decimal , --no-plots \
+"$bin/diagnose" --recording plant.csv --config "$cfg" --columns "$cols" --delimiter ';' --decimal , \
   --out diag >diag.log 2>&1 || { tail -n 20 diag.log; echo "FAIL: diagnose exited non-zero"; exit 1; }
 cat diag.log
+# The plots show the channels compared (the speed set point has no model curve).
+grep -q "plotting failed" diag.log && { echo "FAIL: the plots failed"; exit 1; }
+ls diag/overlay_0.png diag/residual_spectrum.png >/dev/null || { echo "FAIL: no plots"; exit 1; }
 /usr/bin/python3 - diag/diagnosis.json <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
