@@ -57,12 +57,21 @@ std::string trim(const std::string& s) {
   const std::size_t b = s.find_last_not_of(" \t\r\"'");
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
+// Splits at the delimiter outside double quotes ("1,5" is one cell in a ','-separated file).
 std::vector<std::string> split(const std::string& line, char d) {
   std::vector<std::string> out;
   std::string cell;
-  std::istringstream ss(line);
-  while (std::getline(ss, cell, d)) out.push_back(trim(cell));
-  if (!line.empty() && line.back() == d) out.push_back("");
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') quoted = !quoted;
+    if (c == d && !quoted) {
+      out.push_back(trim(cell));
+      cell.clear();
+    } else {
+      cell += c;
+    }
+  }
+  out.push_back(trim(cell));
   return out;
 }
 // Splits at ',' outside [...] (a unit such as [1/min] holds no comma, but a column name may hold ';').
@@ -220,7 +229,8 @@ Recording parse_plant_export(const std::string& text, const std::string& name, c
     if (!col.empty()) s += ": column '" + col + "'";
     return s;
   };
-  std::istringstream in(text);
+  // A byte-order mark (spreadsheet exports) is not part of the first column's name.
+  std::istringstream in(text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? text.substr(3) : text);
   std::string line;
   std::size_t lineno = 0, header_line = 0;
   std::vector<std::string> header;

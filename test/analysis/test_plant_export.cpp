@@ -70,6 +70,15 @@ TEST(PlantExport, ReadsDaqExportInSiUnits) {
   EXPECT_NEAR(a.ax_m_s2[0], 0.5 * 9.80665, 1e-12);
   EXPECT_NEAR(a.speed_rad_s[0], 6 * 2 * M_PI, 1e-12);
   EXPECT_FALSE(a.has(kX));
+  // A spreadsheet's byte-order mark and quoted cells holding the delimiter.
+  f.columns = parse_column_map("t=time[s],x=x[mm],speed=n[rpm]");
+  f.decimal = ',';
+  f.delimiter = ';';
+  text = "\xEF\xBB\xBF\"time\";\"x\";\"n\"\n";
+  for (int i = 0; i < 60; ++i) text += "\"" + std::to_string(i) + ",5\";\"1,25\";\"400\"\n";
+  Recording q = parse_plant_export(text, "bom.csv", f);
+  EXPECT_NEAR(q.t_s[2], 2.5, 1e-12);
+  EXPECT_NEAR(q.x_m[0], 1.25e-3, 1e-15);
 }
 
 TEST(PlantExport, SkipsAndReportsMissingRowsAndGaps) {
