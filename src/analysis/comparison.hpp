@@ -17,7 +17,22 @@ using ChannelHarmonics = std::array<Harmonics, kNumChannels>;
 
 // Steady-state periodic description of a model run: harmonics of each channel at the run's own mean
 // speed. The shape is a function of drive phase, so it is re-timed to the recording's fundamental.
+// Acceleration channels the run lacks are its displacement's second time derivative (5-point stencil,
+// its gain per order divided out), fitted like the others; re-timed to a fundamental w' they scale by
+// (w'/w)^2. The accelerometer's mean (bias, gravity) is not compared: order 0 of an acceleration channel
+// is left out.
 ChannelHarmonics model_harmonics(const Recording& model_run, int K = kFitOrders);
+
+// How a recording's channel enters the comparison, and its noise floor's parts.
+struct ChannelUse {
+  bool compared = false;           // recorded, and a signal (not a set point)
+  std::string why_not;             // "not recorded", "set point" (when not compared)
+  double setpoint_value = 0;       // median of a set-point channel (SI)
+  double resolution = 0;           // logger resolution (SI): stated, or the smallest step in the data
+  bool resolution_estimated = false;
+  double quantisation_var = 0;     // q^2 / 12: the noise floor's least value
+  double quantisation_systematic = 0;  // its undithered part (does not average out; quantisation.hpp)
+};
 
 // A recording (or a time window of one) prepared for comparison.
 struct Dataset {
@@ -30,6 +45,7 @@ struct Dataset {
   std::array<double, kNumChannels> sigma2{};     // noise variance per channel (non-harmonic remainder)
   std::array<double, kNumChannels> rss_rest{};   // sum of squares of the non-harmonic remainder
   std::array<double, kNumChannels> tss{};        // sum of squares about the mean
+  std::array<ChannelUse, kNumChannels> use{};
 };
 Dataset prepare_dataset(const Recording& rec, const std::string& label, int K = kFitOrders);
 
@@ -44,7 +60,8 @@ struct Alignment {
 Alignment align(const Dataset& d, const ChannelHarmonics& m, bool fit_gain = true, bool fit_tau = true);
 // Noise variance against which a channel's harmonic residual is judged: recording noise plus the model
 // run's non-periodic remainder scaled to the recording's length (a short model run of a mechanism with
-// broadband fluctuation gives uncertain harmonics).
+// broadband fluctuation gives uncertain harmonics), plus the undithered quantisation power spread over
+// the fitted orders (it does not average down with the number of samples).
 double harmonic_sigma2(const Dataset& d, const Harmonics& m, int c, double gain);
 // Weighted cost sum_c RSS_c / sigma2_c (recording noise only) evaluated in the harmonic domain (fast; used inside fits).
 double harmonic_cost(const Dataset& d, const ChannelHarmonics& m, const Alignment& a);
@@ -58,6 +75,7 @@ struct ChannelError {
   std::vector<double> order_residual_power;   // mean power of the residual's order-k part
   std::vector<double> order_recording_power;  // mean power of the recording's order-k part
   std::vector<double> order_nrmse;            // sqrt(residual / recording power) per order
+  bool compared = false;       // false: channel not recorded or a set point; all figures 0, n = 0
   double harmonic_sigma2 = 0;  // sigma2 plus the model's own non-periodic part (see harmonic_sigma2)
   double chi2 = 0;   // n * harmonic residual power / harmonic_sigma2 (chi-square, dof_chi2, if only noise)
   int dof_chi2 = 0;

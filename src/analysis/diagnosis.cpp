@@ -43,7 +43,8 @@ std::string dataset_label(const Recording& r, double t0, double t1) {
 
 double structured_excess(const Comparison& c) {
   double s = 0;
-  for (const auto& e : c.ch) s += std::max(0.0, e.chi2 - e.dof_chi2);
+  for (const auto& e : c.ch)
+    if (e.compared) s += std::max(0.0, e.chi2 - e.dof_chi2);
   return s;
 }
 
@@ -53,6 +54,7 @@ double overall_nrmse(const std::vector<Comparison>& cs) {
   double num = 0, den = 0;
   for (const auto& c : cs)
     for (const auto& e : c.ch) {
+      if (!e.compared) continue;  // not recorded, or a set point
       num += e.rss / e.sigma2;
       den += e.tss / e.sigma2;
     }
@@ -126,6 +128,7 @@ class SeriesObjective : public Objective {
     double chi2 = 0, dof = 0, chi2_rec = 0;
     for (const auto& c : tr)
       for (const auto& e : c.ch) {
+        if (!e.compared) continue;  // not recorded, or a set point
         chi2 += e.chi2;
         dof += e.dof_chi2;
         // Birge ratio: where the model still leaves more harmonic residual than recording noise explains (the
@@ -142,7 +145,7 @@ class SeriesObjective : public Objective {
     for (const auto* set : {&tr, &ho})
       for (const auto& c : *set)
         for (const auto& e : c.ch)
-          if (residual_significant(e, opt_.z_significance)) s.significant = true;
+          if (e.compared && residual_significant(e, opt_.z_significance)) s.significant = true;
     s.cost = cost(p);
     return s;
   }

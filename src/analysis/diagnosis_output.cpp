@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "analysis/diagnosis.hpp"
+#include "analysis/inputs_report.hpp"
 
 namespace analysis {
 namespace {
@@ -34,15 +35,18 @@ void comparison_json(std::ostringstream& o, const Comparison& c) {
     << ", \"fit_percent\": " << num(c.fit_percent_overall) << ", \"time_offset_s\": " << num(c.alignment.tau_s)
     << ", \"gain\": " << num(c.alignment.gain) << ", \"period_s\": " << num(c.alignment.period_s)
     << ", \"window_t0_s\": " << arr(c.window_t0_s) << ", \"channels\": {";
+  bool first_ch = true;
   for (int ch = 0; ch < kNumChannels; ++ch) {
     const auto& e = c.ch[ch];
-    o << (ch ? ", " : "") << "\"" << kChannelNames[ch] << "\": {\"nrmse\": " << num(e.nrmse)
+    if (!e.compared) continue;  // not recorded or a set point: see "inputs"
+    o << (first_ch ? "" : ", ") << "\"" << kChannelNames[ch] << "\": {\"nrmse\": " << num(e.nrmse)
       << ", \"fit_percent\": " << num(e.fit_percent) << ", \"noise_std\": " << num(std::sqrt(e.sigma2))
       << ", \"chi2\": " << num(e.chi2) << ", \"chi2_dof\": " << e.dof_chi2
       << ", \"order_nrmse\": " << arr(e.order_nrmse)
       << ", \"order_residual_power\": " << arr(e.order_residual_power)
       << ", \"order_recording_power\": " << arr(e.order_recording_power)
       << ", \"window_rms_over_noise\": " << arr(e.window_rms_over_sigma) << "}";
+    first_ch = false;
   }
   o << "}}";
 }
@@ -53,6 +57,12 @@ void comparisons_json(std::ostringstream& o, const std::vector<Comparison>& cs) 
     comparison_json(o, cs[i]);
   }
   o << "]";
+}
+std::vector<const Dataset*> datasets_of(const DiagnosisResult& r) {
+  std::vector<const Dataset*> out;
+  for (const auto* set : {&r.train, &r.heldout})
+    for (const auto& d : *set) out.push_back(&d);
+  return out;
 }
 double mean_nrmse(const std::vector<Comparison>& cs) {
   double s = 0;
@@ -109,7 +119,7 @@ std::string diagnosis_json(const DiagnosisResult& r) {
         << num(d.omega) << "}";
       first = false;
     }
-  o << "],\n  \"located\": [";
+  o << "],\n  \"inputs\": " << inputs_json(datasets_of(r)) << ",\n  \"located\": [";
   for (std::size_t i = 0; i < r.located.size() && i < 15; ++i) {
     const auto& m = r.located[i];
     o << (i ? ",\n    " : "\n    ") << "{\"dataset\": \"" << esc(m.dataset) << "\", \"channel\": \"" << m.channel
@@ -159,6 +169,7 @@ std::string diagnosis_markdown(const DiagnosisResult& r) {
     o << ").\n\n";
   }
   if (!r.named.empty()) o << "`fitted.yaml` holds the model with these values.\n\n";
+  o << inputs_markdown(datasets_of(r));
   o << "## Non-physical differences (removed before judging the physics)\n\n";
   o << "| data set | time offset (s, modulo one drive period) | displacement sensor gain |\n|---|---|---|\n";
   for (const auto* set : {&r.before_train, &r.before_heldout})
@@ -191,11 +202,15 @@ std::string diagnosis_markdown(const DiagnosisResult& r) {
   }
   o << "\nNegative ΔBIC favours the term; below -10 is strong evidence.\n\n";
   o << "## Error before and after\n\nNRMSE per channel (fit percent = 100 (1 - NRMSE)); overall = noise-weighted "
-       "over channels.\n\n| data set | | overall | x | y | z | power | speed |\n|---|---|---|---|---|---|---|---|\n";
+       "over channels; - = not compared.\n\n| data set | | overall | x | y | z | power | speed | ax | ay | az |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|\n";
   auto rows = [&](const std::vector<Comparison>& cs, const char* tag) {
     for (const auto& c : cs) {
       o << "| " << c.label << " | " << tag << " | " << c.nrmse_overall;
-      for (const auto& e : c.ch) o << " | " << e.nrmse;
+      for (const auto& e : c.ch) {
+        if (e.compared) o << " | " << e.nrmse;
+        else o << " | -";
+      }
       o << " |\n";
     }
   };

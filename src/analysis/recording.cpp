@@ -10,9 +10,9 @@
 
 namespace analysis {
 
-const std::array<const char*, kNumChannels> kChannelNames = {"x_m", "y_m", "z_m", "power_W",
-                                                             "speed_rad_s"};
-const std::array<const char*, kNumChannels> kChannelUnits = {"m", "m", "m", "W", "rad/s"};
+const std::array<const char*, kNumChannels> kChannelNames = {
+    "x_m", "y_m", "z_m", "power_W", "speed_rad_s", "ax_m_s2", "ay_m_s2", "az_m_s2"};
+const std::array<const char*, kNumChannels> kChannelUnits = {"m", "m", "m", "W", "rad/s", "m/s^2", "m/s^2", "m/s^2"};
 
 std::vector<double>& Recording::channel(int c) {
   switch (c) {
@@ -21,8 +21,12 @@ std::vector<double>& Recording::channel(int c) {
     case kZ: return z_m;
     case kPower: return power_W;
     case kSpeed: return speed_rad_s;
+    case kAx: return ax_m_s2;
+    case kAy: return ay_m_s2;
+    case kAz: return az_m_s2;
   }
-  throw std::invalid_argument("Recording::channel: index " + std::to_string(c) + " not in 0..4");
+  throw std::invalid_argument("Recording::channel: index " + std::to_string(c) + " not in 0.." +
+                              std::to_string(kNumChannels - 1));
 }
 const std::vector<double>& Recording::channel(int c) const {
   return const_cast<Recording*>(this)->channel(c);
@@ -45,10 +49,13 @@ double Recording::mean_speed_rad_s() const {
 Recording Recording::slice(double t0, double t1) const {
   Recording out;
   out.source = source;
+  out.resolution = resolution;
+  out.notes = notes;
   for (std::size_t i = 0; i < t_s.size(); ++i) {
     if (t_s[i] < t0 || t_s[i] >= t1) continue;
     out.t_s.push_back(t_s[i]);
-    for (int c = 0; c < kNumChannels; ++c) out.channel(c).push_back(channel(c)[i]);
+    for (int c = 0; c < kNumChannels; ++c)
+      if (has(c)) out.channel(c).push_back(channel(c)[i]);
   }
   return out;
 }
@@ -56,6 +63,7 @@ Recording Recording::slice(double t0, double t1) const {
 void check_consistent(const Recording& r) {
   if (r.t_s.empty()) throw std::invalid_argument(r.source + ": recording is empty");
   for (int c = 0; c < kNumChannels; ++c) {
+    if (!r.has(c)) continue;
     if (r.channel(c).size() != r.t_s.size())
       throw std::invalid_argument(r.source + ": channel " + kChannelNames[c] + " has " +
                                   std::to_string(r.channel(c).size()) + " samples but t_s has " +
@@ -109,7 +117,7 @@ Recording parse_recording_csv(const std::string& text, const std::string& name, 
       for (std::size_t j = 0; j < cells.size(); ++j) {
         int k = -2;
         if (cells[j] == "t_s") k = -1;
-        for (int c = 0; c < kNumChannels; ++c)
+        for (int c = 0; c < kAx; ++c)
           if (cells[j] == kChannelNames[c]) k = c;
         if (k == -2) {
           char* end = nullptr;
@@ -175,12 +183,17 @@ Recording read_recording_csv(const std::string& path, std::size_t min_rows) {
 
 void write_recording_csv(const Recording& r, const std::string& path) {
   check_consistent(r);
+  for (int c = 0; c < kNumChannels; ++c)
+    if (r.has(c) != (c < kAx))
+      throw std::invalid_argument(path + ": the CSV recording holds exactly t_s, x_m, y_m, z_m, power_W, "
+                                  "speed_rad_s; channel " + std::string(kChannelNames[c]) +
+                                  (r.has(c) ? " cannot be written (write a plant export)" : " is missing"));
   std::ofstream f(path);
   if (!f) throw std::runtime_error(path + ": cannot write");
   f << "t_s,x_m,y_m,z_m,power_W,speed_rad_s\n" << std::setprecision(10);
   for (std::size_t i = 0; i < r.size(); ++i) {
     f << r.t_s[i];
-    for (int c = 0; c < kNumChannels; ++c) f << ',' << r.channel(c)[i];
+    for (int c = 0; c < kAx; ++c) f << ',' << r.channel(c)[i];
     f << '\n';
   }
   if (!f) throw std::runtime_error(path + ": write failed");

@@ -1,21 +1,31 @@
 #pragma once
 // Plant or model recording of the mechanism's measured signals (SI units) and its CSV form.
-// Columns (DESIGN.md contract): t_s, x_m, y_m, z_m, power_W, speed_rad_s.
+// Columns (DESIGN.md contract): t_s, x_m, y_m, z_m, power_W, speed_rad_s. Plant exports (plant_export.hpp)
+// may also carry test-point accelerations and may lack channels: an empty channel was not recorded.
 #include <array>
 #include <string>
 #include <vector>
 
 namespace analysis {
 
-enum Channel { kX = 0, kY, kZ, kPower, kSpeed, kNumChannels };
-extern const std::array<const char*, kNumChannels> kChannelNames;   // "x_m", ... as in the CSV
-extern const std::array<const char*, kNumChannels> kChannelUnits;   // "m", "W", "rad/s"
+enum Channel { kX = 0, kY, kZ, kPower, kSpeed, kAx, kAy, kAz, kNumChannels };
+extern const std::array<const char*, kNumChannels> kChannelNames;   // "x_m", ..., "ax_m_s2", ...
+extern const std::array<const char*, kNumChannels> kChannelUnits;   // "m", "W", "rad/s", "m/s^2"
+inline bool is_displacement(int c) { return c == kX || c == kY || c == kZ; }
+inline bool is_acceleration(int c) { return c == kAx || c == kAy || c == kAz; }
+// The displacement channel whose second time derivative an acceleration channel measures (kAx -> kX).
+inline int displacement_of(int c) { return c - kAx + kX; }
 
 struct Recording {
   std::string source;  // file name or "model"; used in messages
   std::vector<double> t_s, x_m, y_m, z_m, power_W, speed_rad_s;
+  std::vector<double> ax_m_s2, ay_m_s2, az_m_s2;  // test-point acceleration (plant exports only)
+  // Logger resolution of each channel (SI), 0 = not stated (estimated from the data, quantisation.hpp).
+  std::array<double, kNumChannels> resolution{};
+  std::vector<std::string> notes;  // what reading the file did (rows skipped, gaps), for the report
 
   std::size_t size() const { return t_s.size(); }
+  bool has(int c) const { return !channel(c).empty(); }  // recorded (not every plant logs every channel)
   std::vector<double>& channel(int c);
   const std::vector<double>& channel(int c) const;
   double duration_s() const { return t_s.empty() ? 0.0 : t_s.back() - t_s.front(); }
@@ -41,7 +51,8 @@ Recording from_fields(const R& r, const std::string& source) {
 Recording read_recording_csv(const std::string& path, std::size_t min_rows = 50);
 Recording parse_recording_csv(const std::string& text, const std::string& name, std::size_t min_rows = 50);
 void write_recording_csv(const Recording& r, const std::string& path);
-// Throws std::invalid_argument if vectors differ in length, are empty or hold non-finite values.
+// Throws std::invalid_argument if time is empty, a recorded channel's length differs from time's or a
+// value is non-finite. Channels left empty were not recorded.
 void check_consistent(const Recording& r);
 
 }  // namespace analysis

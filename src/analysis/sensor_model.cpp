@@ -24,10 +24,31 @@ Recording apply_sensor_errors(const Recording& model, const SensorErrors& e) {
   for (int c = 0; c < kNumChannels; ++c) {
     auto& v = r.channel(c);
     const double s = e.noise_rel * channel_scale(v);
-    const double g = (c == kX || c == kY || c == kZ) ? e.gain : 1.0;
+    const double g = is_displacement(c) || is_acceleration(c) ? e.gain : 1.0;
     for (double& x : v) x = g * x + s * normal(rng);
   }
   return r;
+}
+
+Recording with_acceleration(const Recording& r) {
+  check_consistent(r);
+  if (r.size() < 5) throw std::invalid_argument(r.source + ": too short to differentiate (5 samples needed)");
+  Recording out;
+  out.source = r.source;
+  out.resolution = r.resolution;
+  out.notes = r.notes;
+  for (std::size_t i = 2; i + 2 < r.size(); ++i) {
+    out.t_s.push_back(r.t_s[i]);
+    for (int c = 0; c < kNumChannels; ++c)
+      if (r.has(c)) out.channel(c).push_back(r.channel(c)[i]);
+    const double h = 0.25 * (r.t_s[i + 2] - r.t_s[i - 2]);
+    for (int c : {kX, kY, kZ}) {
+      if (!r.has(c) || r.has(c - kX + kAx)) continue;  // an acceleration already there is kept
+      const auto& y = r.channel(c);
+      out.channel(c - kX + kAx).push_back((-y[i - 2] + 16 * y[i - 1] - 30 * y[i] + 16 * y[i + 1] - y[i + 2]) / (12 * h * h));
+    }
+  }
+  return out;
 }
 
 }  // namespace analysis

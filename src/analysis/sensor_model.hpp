@@ -11,7 +11,7 @@ namespace analysis {
 struct SensorErrors {
   double noise_rel = 0.0;      // noise std as a fraction of each channel's scale (see channel_scale)
   double time_offset_s = 0.0;  // recording(t) = model(t - offset)
-  double gain = 1.0;           // multiplies x, y, z (the displacement sensor); power and speed unaffected
+  double gain = 1.0;           // multiplies x, y, z and ax, ay, az (the motion sensor); power, speed unaffected
   std::uint64_t seed = 1;
 };
 
@@ -19,5 +19,9 @@ struct SensorErrors {
 // constant drive speed still gets noise).
 double channel_scale(const std::vector<double>& v);
 Recording apply_sensor_errors(const Recording& model, const SensorErrors& e);
+// The test point's acceleration (ax, ay, az) from its displacement, as an accelerometer would log it:
+// 5-point central differences (error O(dt^4)) of a uniformly sampled recording; the first and last two
+// samples are dropped.
+Recording with_acceleration(const Recording& r);
 
 }  // namespace analysis

@@ -2,8 +2,10 @@
 // with it fitted, and the fit before/after (issue 6; DESIGN.md "scripts/crusher diagnose").
 //   diagnose --recording FILE [--recording FILE...] --config BASE.yaml --out DIR
 //            [--model-seconds S] [--settle-s S] [--no-plots]
-// FILE: CSV (t_s, x_m, y_m, z_m, power_W, speed_rad_s) or, when built with ROS, a bag with
-// /crusher/test_point and /crusher/drive. The first recording trains, the others are held out.
+//            [--columns MAP [--delimiter D] [--decimal C]] [--resolution LIST]
+// FILE: CSV (t_s, x_m, y_m, z_m, power_W, speed_rad_s), a plant export read through --columns
+// (analysis/plant_export.hpp) or, when built with ROS, a bag with /crusher/test_point and /crusher/drive.
+// The first recording trains, the others are held out.
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -18,6 +20,7 @@
 
 #include "analysis/diagnosis.hpp"
 #include "analysis/mbd_model.hpp"
+#include "analysis/plant_export.hpp"
 #include "analysis/summary_diagnosis.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
@@ -43,11 +46,19 @@ const char* kUsage =
     "                [--setpoint-rpm R (once per recording, in order: the drive set point)]\n"
     "                [--setpoint whole-rpm|measured (without --setpoint-rpm: the config's speed when the\n"
     "                 mean speed is within 3 % of it, else the mean rounded to whole rpm or the mean)]\n"
+    "                [--columns t=COL[UNIT],x=COL[UNIT],... (a plant export; applies to every FILE)]\n"
+    "                [--delimiter ,|;|tab|'|' (default ,)] [--decimal .|, (default .)]\n"
+    "                [--resolution KEY=VALUE[UNIT],... (logger resolution; default: from the data)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
     "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n"
     "  TABLE.yaml: source, uncertainty_pct and one row per speed (src/analysis/README.md); the model is the\n"
     "  config's fast mode (flow load) over its run.duration_s after run.settle_s unless --model-seconds.\n"
-    "  Candidates: the omitted-effect modules and the config's diagnosis.uncertain values.\n";
+    "  Candidates: the omitted-effect modules and the config's diagnosis.uncertain values.\n"
+    "  --columns keys and units: t (s, ms, us); x, y, z (m, mm, um); ax, ay, az (m/s^2, mm/s^2, g);\n"
+    "  power (W, kW, MW); speed (rad/s, rpm, 1/min, Hz). Other columns are ignored; at least t and one of\n"
+    "  x, y, z, ax, ay, az; without speed, --setpoint-rpm gives the drive speed. Rows with a missing value\n"
+    "  are skipped and gaps fitted as they are (both reported). E.g. --columns t=time[s],x=disp_x[mm],\n"
+    "  y=disp_y[mm],power=P[kW],speed=n[rpm] --delimiter ';' --decimal , --resolution x=0.01mm,power=0.1kW\n";
 
 #ifdef CRUSHER_WITH_ROS
 // Test-point samples with the drive state linearly interpolated to their stamps.
@@ -108,7 +119,8 @@ Recording read_bag(const std::string& path) {
 }
 #endif
 
-Recording read_any(const std::string& path) {
+Recording read_any(const std::string& path, const PlantFormat* plant) {
+  if (plant) return read_plant_export(path, *plant);
   const std::string ext = fs::path(path).extension().string();
   if (ext == ".bag") {
 #ifdef CRUSHER_WITH_ROS
@@ -149,15 +161,19 @@ void write_overlay(const fs::path& p, const Dataset& d, const Comparison& before
   std::ofstream f(p);
   f.precision(9);
   f << "t_s";
+  // Channels compared (a set point or a channel not recorded has no model curve).
+  std::vector<int> cs;
+  for (int c = 0; c < kNumChannels; ++c)
+    if (before.ch[c].compared && after.ch[c].compared) cs.push_back(c);
   for (const char* w : {"rec", "before", "after"})
-    for (int c = 0; c < kNumChannels; ++c) f << ',' << w << '_' << kChannelNames[c];
+    for (int c : cs) f << ',' << w << '_' << kChannelNames[c];
   f << '\n';
   const double t0 = d.rec.t_s.front();
   for (std::size_t i = 0; i < d.rec.size() && d.rec.t_s[i] < t0 + seconds; ++i) {
     f << d.rec.t_s[i];
-    for (int c = 0; c < kNumChannels; ++c) f << ',' << d.rec.channel(c)[i];
-    for (int c = 0; c < kNumChannels; ++c) f << ',' << before.model_on_recording_times[c][i];
-    for (int c = 0; c < kNumChannels; ++c) f << ',' << after.model_on_recording_times[c][i];
+    for (int c : cs) f << ',' << d.rec.channel(c)[i];
+    for (int c : cs) f << ',' << before.model_on_recording_times[c][i];
+    for (int c : cs) f << ',' << after.model_on_recording_times[c][i];
     f << '\n';
   }
 }
@@ -171,6 +187,7 @@ int main(int argc, char** argv) {
   bool model_seconds_given = false, settle_given = false;
   bool plots = true, whole_rpm = true;
   std::vector<double> setpoint_rpm;
+  std::string columns, delimiter, decimal, resolution;
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -185,6 +202,10 @@ int main(int argc, char** argv) {
       else if (a == "--settle-s") settle_s = number(0, 60), settle_given = true;
       else if (a == "--no-plots") plots = false;
       else if (a == "--setpoint-rpm") setpoint_rpm.push_back(number(1, 5000));
+      else if (a == "--columns") columns = value();
+      else if (a == "--delimiter") delimiter = value();
+      else if (a == "--decimal") decimal = value();
+      else if (a == "--resolution") resolution = value();
       else if (a == "--setpoint") {
         const std::string v = value();
         if (v != "whole-rpm" && v != "measured")
@@ -234,8 +255,24 @@ int main(int argc, char** argv) {
     std::vector<Term> candidates = series_candidates();
     for (const auto& t : cfg.uncertain()) candidates.push_back(t);
 
+    PlantFormat plant;
+    if (!columns.empty()) {
+      plant.columns = parse_column_map(columns);
+      if (!delimiter.empty()) plant.delimiter = parse_delimiter(delimiter);
+      if (!decimal.empty()) plant.decimal = parse_decimal(decimal);
+    } else if (!delimiter.empty() || !decimal.empty()) {
+      throw std::invalid_argument("--delimiter and --decimal read a plant export: give its --columns too");
+    } else {
+      for (int c = 0; c < kAx; ++c) plant.columns[c].to_si = 1.0;  // --resolution without a unit: SI
+    }
+    if (!resolution.empty()) parse_resolutions(resolution, plant);
     std::vector<Recording> recordings;
-    for (const auto& f : recs) recordings.push_back(read_any(f));
+    for (std::size_t i = 0; i < recs.size(); ++i) {
+      plant.setpoint_rad_s = i < setpoint_rpm.size() ? setpoint_rpm[i] * 2.0 * M_PI / 60.0 : 0.0;
+      recordings.push_back(read_any(recs[i], columns.empty() ? nullptr : &plant));
+      recordings.back().resolution = plant.resolution;
+      for (const auto& note : recordings.back().notes) std::cerr << "diagnose: " << recs[i] << ": " << note << "\n";
+    }
 
     MbdModelOptions mo;
     mo.settle_s = settle_s;

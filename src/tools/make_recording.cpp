@@ -5,13 +5,18 @@
 // --noise-std is relative: noise std = R x channel scale (std of the channel, at least 1 % of its mean).
 // --load bed (default): the mechanism with the equivalent bed (mbd::simulate); --load flow: under the chamber flow
 // model (analysis::run_flow, the config's flow: section), the only load the chamber effects act in.
+// With --columns it writes a plant-style export instead (analysis/plant_export.hpp): the mapped columns in
+// their units, delimiter and decimal separator, values rounded to --resolution, and plant habits on demand:
+// the speed logged at its set point, rows of missing values, a gap, another sample rate.
 #include <cstdlib>
+#include <random>
 #include <iostream>
 #include <string>
 
 #include "analysis/flow_run.hpp"
 #include "analysis/mbd_model.hpp"
 #include "chamber/flow_config.hpp"
+#include "analysis/plant_export.hpp"
 #include "analysis/sensor_model.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
@@ -27,6 +32,10 @@ int main(int argc, char** argv) {
       "(default bed)] [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
       "[--gain G (default 1)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
       "config)] [--settle-s S (default 4)] --out FILE.csv\n"
+      "  plant-style export: --columns t=COL[UNIT],x=COL[UNIT],... (keys t x y z ax ay az power speed, as in\n"
+      "  diagnose) [--delimiter ,|;|tab] [--decimal .|,] [--resolution KEY=VALUE[UNIT],...] [--speed-setpoint\n"
+      "  (speed logged constant at the drive set point)] [--missing-rows N (rows written as NaN)]\n"
+      "  [--gap T0:LEN (seconds left out, from the start)] [--sample-hz HZ (default 1000, whole model steps)]\n"
       "  V in the unit of mbd.effects.<name>.<main parameter>: coulomb_Nm, cubic_N_per_m3, droop_rad_s_per_kNm, "
       "angle_deg, mu, efficiency;\n"
       "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm\n";
@@ -34,7 +43,10 @@ int main(int argc, char** argv) {
   double value = 0, seconds = 10, speed_rpm = -1, settle = 4;
   SensorErrors e;
   e.noise_rel = 0.01;
-  bool have_value = false;
+  bool have_value = false, speed_setpoint = false;
+  std::string columns, delimiter, decimal, resolution;
+  long missing_rows = 0;
+  double gap_t0 = -1, gap_len = 0, sample_hz = 1000;
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -53,6 +65,22 @@ int main(int argc, char** argv) {
       else if (a == "--settle-s") settle = num(0, 60);
       else if (a == "--load") load = str();
       else if (a == "--out") out = str();
+      else if (a == "--columns") columns = str();
+      else if (a == "--delimiter") delimiter = str();
+      else if (a == "--decimal") decimal = str();
+      else if (a == "--resolution") resolution = str();
+      else if (a == "--speed-setpoint") speed_setpoint = true;
+      else if (a == "--missing-rows") missing_rows = args.integer(0, 1000000);
+      else if (a == "--sample-hz") sample_hz = num(1, 1e5);
+      else if (a == "--gap") {
+        const std::string g = str();
+        char* end = nullptr;
+        gap_t0 = std::strtod(g.c_str(), &end);
+        if (!end || *end != ':' || !(gap_t0 >= 0)) throw std::invalid_argument("--gap " + g + ": accepted T0:LEN in seconds");
+        const char* rest = end + 1;
+        gap_len = std::strtod(rest, &end);
+        if (!end || *end || end == rest || !(gap_len > 0)) throw std::invalid_argument("--gap " + g + ": accepted T0:LEN in seconds");
+      }
       else if (a == "-h" || a == "--help") { std::cout << usage; return 0; }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
@@ -63,7 +91,19 @@ int main(int argc, char** argv) {
     if (is_flow_effect(effect) && load != "flow")
       throw std::invalid_argument("--effect " + effect + " is a chamber flow-model effect (flow.effects." + effect +
                                   "): it needs --load flow");
+    if (columns.empty() && (!delimiter.empty() || !decimal.empty() || !resolution.empty() || speed_setpoint ||
+                            missing_rows || gap_t0 >= 0))
+      throw std::invalid_argument("--delimiter, --decimal, --resolution, --speed-setpoint, --missing-rows and --gap "
+                                  "write a plant export: give its --columns");
+    PlantFormat plant;
+    if (!columns.empty()) {
+      plant.columns = parse_column_map(columns);
+      if (!delimiter.empty()) plant.delimiter = parse_delimiter(delimiter);
+      if (!decimal.empty()) plant.decimal = parse_decimal(decimal);
+      if (!resolution.empty()) parse_resolutions(resolution, plant);
+    }
     Recording model;
+    double drive_speed = 0;
     if (load == "bed") {
       mbd::MechanismParams p = mbd::load_mechanism_params_file(config);
       p = with_effect(p, effect, value);
@@ -73,7 +113,9 @@ int main(int argc, char** argv) {
       so.duration_s = seconds;
       so.settle_s = settle;
       so.load = "bed";
+      so.sample_hz = sample_hz;
       model = from_fields(mbd::simulate(p, so), "model");
+      drive_speed = p.drive_speed_rad_s;
     } else {
       auto cfg = chamber::load_flow_run_config(config);
       mbd::MechanismParams p = with_effect(cfg.mech, is_flow_effect(effect) ? "none" : effect, value);
@@ -83,7 +125,7 @@ int main(int argc, char** argv) {
       FlowRunOptions fo;
       fo.duration_s = seconds;
       fo.settle_s = settle;
-      fo.sample_hz = 1000;
+      fo.sample_hz = sample_hz;
       const FlowRunResult r = run_flow(p, f, fo);
       // The run's signals start at the run's start: keep the window after the settle time, its clock from 0.
       RunSignals w;
@@ -100,10 +142,33 @@ int main(int argc, char** argv) {
         w.speed_rad_s.push_back(s.speed_rad_s[i]);
       }
       model = from_fields(w, "model");
+      drive_speed = p.drive_speed_rad_s;
     }
+    if (columns.empty()) {
+      Recording rec = apply_sensor_errors(model, e);
+      write_recording_csv(rec, out);
+      std::cout << "wrote " << out << " (" << rec.size() << " samples, " << seconds << " s)\n";
+      return 0;
+    }
+    if (plant.columns.count(kAx) || plant.columns.count(kAy) || plant.columns.count(kAz)) model = with_acceleration(model);
     Recording rec = apply_sensor_errors(model, e);
-    write_recording_csv(rec, out);
-    std::cout << "wrote " << out << " (" << rec.size() << " samples, " << seconds << " s)\n";
+    if (speed_setpoint) rec.speed_rad_s.assign(rec.size(), drive_speed);
+    if (gap_t0 >= 0) {
+      const double t0 = rec.t_s.front();
+      Recording a = rec.slice(t0, t0 + gap_t0), b = rec.slice(t0 + gap_t0 + gap_len, rec.t_s.back() + 1);
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        a.t_s.push_back(b.t_s[i]);
+        for (int c = 0; c < kNumChannels; ++c)
+          if (b.has(c)) a.channel(c).push_back(b.channel(c)[i]);
+      }
+      rec = a;
+    }
+    std::vector<std::size_t> missing;
+    std::mt19937_64 rng(e.seed + 7);
+    std::uniform_int_distribution<std::size_t> row(0, rec.size() - 1);
+    for (long i = 0; i < missing_rows; ++i) missing.push_back(row(rng));
+    write_plant_export(rec, out, plant, missing);
+    std::cout << "wrote " << out << " (plant export, " << rec.size() << " rows, " << seconds << " s)\n";
     return 0;
   } catch (const std::exception& ex) {
     std::cerr << "make_recording: error: " << ex.what() << "\n" << usage;

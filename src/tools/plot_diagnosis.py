@@ -13,9 +13,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-CH = ["x_m", "y_m", "z_m", "power_W", "speed_rad_s"]
-LABEL = {"x_m": "x (mm)", "y_m": "y (mm)", "z_m": "z (mm)", "power_W": "power (kW)", "speed_rad_s": "speed (rad/s)"}
-SCALE = {"x_m": 1e3, "y_m": 1e3, "z_m": 1e3, "power_W": 1e-3, "speed_rad_s": 1.0}
+# Every channel a recording may hold; a plot shows those compared (a set point or a channel not recorded
+# has no model curve: diagnosis.json "inputs").
+CH = ["x_m", "y_m", "z_m", "ax_m_s2", "ay_m_s2", "az_m_s2", "power_W", "speed_rad_s"]
+LABEL = {"x_m": "x (mm)", "y_m": "y (mm)", "z_m": "z (mm)", "ax_m_s2": "ax (m/s^2)", "ay_m_s2": "ay (m/s^2)",
+         "az_m_s2": "az (m/s^2)", "power_W": "power (kW)", "speed_rad_s": "speed (rad/s)"}
+SCALE = {"x_m": 1e3, "y_m": 1e3, "z_m": 1e3, "ax_m_s2": 1.0, "ay_m_s2": 1.0, "az_m_s2": 1.0, "power_W": 1e-3,
+         "speed_rad_s": 1.0}
 
 
 def summary_plot(d, diag):
@@ -51,8 +55,10 @@ def main(d):
     for path in sorted(glob.glob(os.path.join(d, "overlay_*.csv"))):
         i = int(os.path.basename(path)[8:-4])
         a = np.genfromtxt(path, delimiter=",", names=True)
-        fig, axes = plt.subplots(len(CH), 1, figsize=(9, 11), sharex=True)
-        for ax, c in zip(axes, CH):
+        chs = [c for c in CH if "rec_" + c in a.dtype.names]
+        fig, axes = plt.subplots(len(chs), 1, figsize=(9, 2.2 * len(chs) + 0.5), sharex=True, squeeze=False)
+        axes = axes[:, 0]
+        for ax, c in zip(axes, chs):
             s = SCALE[c]
             ax.plot(a["t_s"], a["rec_" + c] * s, "k.", ms=1.5, label="recording")
             ax.plot(a["t_s"], a["before_" + c] * s, "r-", lw=1, label="model before")
@@ -67,10 +73,14 @@ def main(d):
         plt.close(fig)
     before = diag["metrics"]["before"]["train"] + diag["metrics"]["before"]["heldout"]
     after = diag["metrics"]["after"]["train"] + diag["metrics"]["after"]["heldout"]
-    fig, axes = plt.subplots(len(CH), len(before), figsize=(5 * len(before), 11), squeeze=False)
+    chs = [c for c in CH if any(c in b["channels"] for b in before)]
+    fig, axes = plt.subplots(len(chs), len(before), figsize=(5 * len(before), 2.2 * len(chs) + 0.5), squeeze=False)
     for j, (b, a) in enumerate(zip(before, after)):
-        for k, c in enumerate(CH):
+        for k, c in enumerate(chs):
             ax = axes[k][j]
+            if c not in b["channels"] or c not in a["channels"]:
+                ax.set_axis_off()
+                continue
             noise = b["channels"][c]["noise_std"] ** 2
             pb = np.array(b["channels"][c]["order_residual_power"]) / noise
             pa = np.array(a["channels"][c]["order_residual_power"]) / noise
@@ -84,7 +94,7 @@ def main(d):
             if k == 0:
                 ax.set_title(b["dataset"], fontsize=9)
                 ax.legend(fontsize=7)
-            if k == len(CH) - 1:
+            if k == len(chs) - 1:
                 ax.set_xlabel("harmonic order of the drive frequency")
     fig.tight_layout()
     fig.savefig(os.path.join(d, "residual_spectrum.png"), dpi=90)
