@@ -144,4 +144,24 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   last_map_t_ = t;
 }
 
+void FlowOutputs::save_state(core::BinaryWriter& w) const {
+  w.tag("FOUT");
+  std::vector<double> history;  // (t, kg) pairs
+  for (const auto& [t, kg] : discharged_) history.insert(history.end(), {t, kg});
+  w.put_vec(history);
+  w.put_vec(last_impulse_);
+  w.put(last_map_t_);
+}
+
+void FlowOutputs::load_state(core::BinaryReader& r) {
+  r.expect("FOUT");
+  std::vector<double> history;
+  r.get_vec(history);
+  if (history.size() % 2) r.fail("flow outputs: the throughput history is corrupt");
+  discharged_.clear();
+  for (std::size_t k = 0; k < history.size(); k += 2) discharged_.emplace_back(history[k], history[k + 1]);
+  r.get_vec(last_impulse_);
+  r.get(last_map_t_);
+}
+
 }  // namespace nodes

@@ -11,6 +11,7 @@
 #include "analysis/run_metrics.hpp"
 #include "chamber/flow_model.hpp"
 #include "chamber/force_map.hpp"
+#include "core/binary_io.hpp"
 #include "mbd/mechanism.hpp"
 #include "nodes/ros_common.hpp"
 
@@ -22,6 +23,10 @@ class FlowOutputs {
   // Publishes and records the product (throughput over the last window), the liners at their pose, the cells and the
   // concave force map.
   void publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f, BagRecorder& bag);
+  // What the next messages depend on besides the model (the throughput window, the force map's last impulse), for the
+  // checkpoint of a fast run: a resumed run publishes what the uninterrupted one did, bit for bit.
+  void save_state(core::BinaryWriter& w) const;
+  void load_state(core::BinaryReader& r);
 
  private:
   ros::Publisher pub_product_, pub_liners_, pub_cells_, pub_map_, pub_map_markers_;
