@@ -1,7 +1,8 @@
 #pragma once
 // mbd_node's outputs in a flow run (run.load flow): the screened product of the chamber flow model on
 // /crusher/product, the liners on /crusher/liners, the chamber's cells (coloured by pressure) on /crusher/chamber and
-// the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces.
+// the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces. All go
+// to the bag at every call; the latched display topics go to ROS while subscribed, else once a simulated second.
 #include <ros/ros.h>
 
 #include <deque>
@@ -37,6 +38,8 @@ class FlowOutputs {
   double last_map_t_ = 0;
   std::vector<Eigen::Vector3d> mantle_tris_, concave_tris_;  // triangle-list vertices in each liner frame
   double window_s_;
+  double next_latch_t_ = 0;                        // simulated time the latched topics are next refreshed unheard
+  static constexpr double kLatchRefresh_s = 1.0;
   std::deque<std::pair<double, double>> discharged_;  // (t, kg) history for the throughput window
 };
 
