@@ -297,11 +297,24 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   return out;
 }
 
+// The parameters a state belongs to, bit for bit: sieves, feed, material, breakage and the switches.
+std::vector<double> FlowModel::fingerprint() const {
+  const auto& m = p_.material;
+  const auto& b = m.breakage;
+  std::vector<double> f = p_.sieves_m;
+  f.insert(f.end(), p_.feed_passing.begin(), p_.feed_passing.end());
+  f.insert(f.end(), {m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression, b.s_c,
+                     b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta, double(p_.prefill),
+                     double(p_.choke_feed), double(p_.compaction_memory)});
+  return f;
+}
+
 void FlowModel::save_state(core::BinaryWriter& w) const {
   w.tag("FLOW");
   w.put<int64_t>(p_.bands);
   w.put<int64_t>(p_.sectors);
   w.put<int64_t>(static_cast<int64_t>(classes()));
+  w.put_vec(fingerprint());
   w.put_vec(mass_);
   w.put_vec(speed_);
   w.put_vec(count_);
@@ -326,6 +339,11 @@ void FlowModel::load_state(core::BinaryReader& r) {
   if (r.get<int64_t>() != p_.bands || r.get<int64_t>() != p_.sectors ||
       r.get<int64_t>() != static_cast<int64_t>(classes()))
     r.fail("flow model cells or size classes differ");
+  std::vector<double> fp;
+  r.get_vec(fp);
+  if (fp != fingerprint())
+    r.fail("the flow model's parameters differ from the checkpoint's (flow: sieves, feed, material, breakage or "
+           "switches; resume with the run's config)");
   const std::size_t n = cells();
   std::vector<double> mass, speed, count, mem, out;
   r.get_vec(mass);

@@ -141,6 +141,7 @@ class FlowModel {
   void load_state(core::BinaryReader& r);  // same parameters; throws naming what differs
 
  private:
+  std::vector<double> fingerprint() const;
   FlowParams p_;
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;

@@ -23,11 +23,14 @@ const Schema<RunOptions>& run_schema() {
         .number("warm_start_s", "s", 1, 0, 600, [](R& o) -> double& { return o.warm_start_s; },
                 "the mechanism alone before t = 0 (starts at speed, frame settled)")
         .number("checkpoint_every_s", "s", 1, 0, 3600, [](R& o) -> double& { return o.checkpoint_every_s; },
-                "coupled runs: both nodes save their state this often (0: never)")
+                "coupled and fast (flow) runs: the nodes save their state this often (0: never); `crusher run --resume`")
         .number("coupled.warm_start_s", "s", 1, 0, 600, [](R& o) -> double& { return o.coupled_warm_start_s; },
                 "instead of warm_start_s when the load is dem")
         .number("coupled.settle_s", "s", 1, 0, 3600, [](R& o) -> double& { return o.coupled_settle_s; },
-                "instead of settle_s when the load is dem");
+                "instead of settle_s when the load is dem")
+        .number("coupled.checkpoint_every_s", "s", 1, 0, 3600,
+                [](R& o) -> double& { return o.coupled_checkpoint_every_s; },
+                "instead of checkpoint_every_s when the load is dem");
     return k;
   }();
   return s;
@@ -61,6 +64,7 @@ void apply_coupled_overrides(RunOptions& o) {
   if (o.load != "dem") return;
   if (o.coupled_warm_start_s >= 0) o.warm_start_s = o.coupled_warm_start_s;
   if (o.coupled_settle_s >= 0) o.settle_s = o.coupled_settle_s;
+  if (o.coupled_checkpoint_every_s >= 0) o.checkpoint_every_s = o.coupled_checkpoint_every_s;
 }
 
 CouplingOptions load_coupling_options(const ConfigNode& c) {

@@ -14,10 +14,11 @@ struct RunOptions {
   double tf_hz = 50;          // tf and liner markers
   double settle_s = 1.0;      // start-up transient excluded from summary.json
   double warm_start_s = 0.0;  // mechanism alone (idle for dem runs) before t = 0: starts at speed, frame settled
-  double checkpoint_every_s = 0.0;  // coupled runs: save both nodes' state this often (simulated s; 0 = never)
-  // Optional `run.coupled:` mapping: warm_start_s / settle_s used instead of the above when the load is dem (a
-  // full-machine coupled run costs days per simulated second: it starts at speed and settles briefly).
-  double coupled_warm_start_s = -1, coupled_settle_s = -1;  // < 0: not given
+  double checkpoint_every_s = 0.0;  // coupled and fast runs: save the state this often (simulated s; 0 = never)
+  // Optional `run.coupled:` mapping: warm_start_s / settle_s / checkpoint_every_s used instead of the above when the
+  // load is dem (a full-machine coupled run costs days per simulated second: it starts at speed, settles briefly and
+  // saves its state often; a fast run saves it every second or so, each checkpoint costs it ~10 ms).
+  double coupled_warm_start_s = -1, coupled_settle_s = -1, coupled_checkpoint_every_s = -1;  // < 0: not given
 };
 
 struct CouplingOptions {
@@ -31,7 +32,7 @@ const Schema<RunOptions>& run_schema();
 const Schema<CouplingOptions>& coupling_schema();
 
 RunOptions load_run_options(const ConfigNode& run);            // the `run:` mapping
-// After any override of `load`: a dem run takes run.coupled's warm_start_s and settle_s where given.
+// After any override of `load`: a dem run takes run.coupled's warm_start_s, settle_s and checkpoint_every_s where given.
 void apply_coupled_overrides(RunOptions& o);
 CouplingOptions load_coupling_options(const ConfigNode& coupling);  // the `coupling:` mapping (may be empty)
 // Mechanism steps per coupling interval: coupling.dt_s must be a whole number (>= 1) of mbd.time_step_s, to 1e-6;

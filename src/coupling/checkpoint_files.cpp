@@ -15,7 +15,9 @@ namespace coupling {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr uint32_t kVersion = 3;  // 2: growing fragments (crushing.fragment_growth_s); 3: CRC-32 trailer
+// 2: growing fragments (crushing.fragment_growth_s); 3: CRC-32 trailer; 4: mbd_node's NODE section names the run's
+// load, and a fast (flow) run's adds the flow model and its outputs' state (mbd_node.cpp)
+constexpr uint32_t kVersion = 4;
 
 // CRC-32 (IEEE 802.3, as zlib's crc32) of a file's bytes: a changed bit or a cut changes it.
 uint32_t crc32(const std::string& bytes) {
@@ -62,6 +64,16 @@ std::optional<uint64_t> number_in(const std::string& name, const std::string& pr
 }
 }  // namespace
 
+const std::vector<std::string>& coupled_nodes() {
+  static const std::vector<std::string> n{"mbd", "dem"};
+  return n;
+}
+
+const std::vector<std::string>& fast_nodes() {
+  static const std::vector<std::string> n{"mbd"};
+  return n;
+}
+
 std::string checkpoint_dir(const std::string& out) { return out + "/checkpoint"; }
 
 std::string checkpoint_path(const std::string& out, const std::string& node, uint64_t step) {
@@ -80,7 +92,8 @@ std::vector<uint64_t> checkpoint_steps(const std::string& out, const std::string
 }
 
 void write_checkpoint(const std::string& out, const CheckpointHeader& h,
-                      const std::function<void(core::BinaryWriter&)>& body, int keep) {
+                      const std::function<void(core::BinaryWriter&)>& body, int keep,
+                      const std::vector<std::string>& nodes) {
   fs::create_directories(checkpoint_dir(out));
   const std::string path = checkpoint_path(out, h.node, h.step), tmp = path + ".tmp";
   std::ostringstream buf(std::ios::binary);
@@ -107,7 +120,7 @@ void write_checkpoint(const std::string& out, const CheckpointHeader& h,
     }
   }
   fs::rename(tmp, path);
-  const auto common = latest_common_checkpoint(out, {"mbd", "dem"});
+  const auto common = latest_common_checkpoint(out, nodes);
   auto steps = checkpoint_steps(out, h.node);
   for (std::size_t k = 0; k + keep < steps.size(); ++k)
     if (common && steps[k] < *common) fs::remove(checkpoint_path(out, h.node, steps[k]));
@@ -134,14 +147,23 @@ std::optional<uint64_t> latest_common_checkpoint(const std::string& out, const s
   return common->back();
 }
 
-uint64_t resume_step(const std::string& out, std::vector<std::string>* passed_over) {
+uint64_t resume_step(const std::string& out, std::vector<std::string>* passed_over,
+                     const std::vector<std::string>& nodes) {
   std::vector<std::string> damaged;
-  auto mbd = checkpoint_steps(out, "mbd"), dem = checkpoint_steps(out, "dem"), both = mbd;
-  both.clear();
-  std::set_intersection(mbd.begin(), mbd.end(), dem.begin(), dem.end(), std::back_inserter(both));
-  for (auto k = both.rbegin(); k != both.rend(); ++k) {
+  std::vector<uint64_t> all;  // the steps every node wrote
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const auto s = checkpoint_steps(out, nodes[i]);
+    if (i == 0) {
+      all = s;
+      continue;
+    }
+    std::vector<uint64_t> both;
+    std::set_intersection(all.begin(), all.end(), s.begin(), s.end(), std::back_inserter(both));
+    all = both;
+  }
+  for (auto k = all.rbegin(); k != all.rend(); ++k) {
     bool sound = true;
-    for (const char* node : {"mbd", "dem"}) {
+    for (const auto& node : nodes) {
       try {
         checked_contents(checkpoint_path(out, node, *k));
       } catch (const std::runtime_error& e) {
@@ -154,7 +176,8 @@ uint64_t resume_step(const std::string& out, std::vector<std::string>* passed_ov
   }
   std::string why = " (a run writes them with run.checkpoint_every_s > 0)";
   if (!damaged.empty()) why = ": " + damaged.front() + (damaged.size() > 1 ? ", and others" : "");
-  throw std::runtime_error("~resume: no sound checkpoint written by both nodes in " + checkpoint_dir(out) + why);
+  throw std::runtime_error(std::string("~resume: no sound checkpoint written by ") +
+                           (nodes.size() > 1 ? "every node" : "mbd_node") + " in " + checkpoint_dir(out) + why);
 }
 
 long checkpoint_interval_steps(double every_s, double coupling_dt) {

@@ -48,6 +48,8 @@ Config load_config(const std::string& path) {
   auto root = core::ConfigNode::load_file(path);
   Config c;
   c.run = core::load_run_options(root.child("run"));
+  c.run.load = "dem";  // this node runs only in coupled runs (the config may name the fast load): run.coupled applies
+  core::apply_coupled_overrides(c.run);
   c.coupling = core::load_coupling_options(root.child_or_empty("coupling"));
   auto mech = mbd::load_mechanism_params(root.child("mbd"));  // the liner geometry is the mechanism's
   c.chamber = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,

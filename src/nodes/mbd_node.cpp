@@ -1,10 +1,13 @@
 // mbd_node: the crusher mechanism (src/mbd) as a ROS node. Parameters in, topics and a bag out.
 //   ~config (path, required), ~out (dir for run.bag and summary.json), ~load (none|bed|flow|dem), ~duration (s),
 //   ~max_rtf (at most this many times real time, e.g. 1 to watch in rviz; 0 = as fast as possible),
-//   ~resume (true: continue a coupled run in ~out from its newest checkpoint, see coupling/checkpoint_files.hpp)
-// With run.checkpoint_every_s > 0 (coupled runs) the state is saved every so many simulated seconds and at the
-// end, and the bag is written in segments run.seg<step>.bag, one per checkpoint interval (scripts/crusher run
-// joins them into run.bag).
+//   ~resume (true: continue a coupled (dem) or fast (flow) run in ~out from its newest checkpoint, see
+//   coupling/checkpoint_files.hpp)
+// With run.checkpoint_every_s > 0 in a coupled or fast run the state is saved every so many simulated seconds and at
+// the end (also when stopped by a signal), and the bag is written in segments run.seg<step>.bag, one per checkpoint
+// interval (scripts/crusher run joins them into run.bag). A fast run's checkpoint holds the mechanism, the flow model
+// and what the node's outputs depend on (samples, product window, throughput history): the resumed run is the
+// uninterrupted one bit for bit.
 // Sim time: this node is the clock (/clock). In `dem` load mode it leads the lockstep coupling.
 #include <inertia_crusher/DriveState.h>
 #include <inertia_crusher/GeometryState.h>
@@ -81,18 +84,22 @@ class MbdNode {
     // In `dem` mode the particles are the load; `bed` is the equivalent material-bed model; `none` idles.
     mech_ = std::make_unique<mbd::Mechanism>(cfg_.mech, cfg_.run.load == "bed" ? mbd::LoadModel::Bed
                                                                                 : mbd::LoadModel::None);
-    const bool coupled = cfg_.run.load == "dem";
-    ck_steps_ = coupled && cfg_.run.checkpoint_every_s > 0 && !out_.empty()
-                    ? coupling::checkpoint_interval_steps(cfg_.run.checkpoint_every_s, cfg_.coupling.dt_s) : 0;
-    if (coupled && cfg_.run.checkpoint_every_s > 0 && out_.empty())
+    const bool coupled = cfg_.run.load == "dem", checkpointed = coupled || cfg_.run.load == "flow";
+    // A checkpoint step: a coupling step (coupled), a mechanism step (flow).
+    ck_steps_ = checkpointed && cfg_.run.checkpoint_every_s > 0 && !out_.empty()
+                    ? coupling::checkpoint_interval_steps(cfg_.run.checkpoint_every_s,
+                                                          coupled ? cfg_.coupling.dt_s : cfg_.mech.dt_s)
+                    : 0;
+    if (checkpointed && cfg_.run.checkpoint_every_s > 0 && out_.empty())
       ROS_WARN("mbd_node: no ~out: run.checkpoint_every_s is ignored (checkpoints go into the run's folder)");
     if (cfg_.run.load == "flow") {
       flow_ = std::make_unique<chamber::FlowLoad>(cfg_.flow, cfg_.mech);
       flow_out_ = std::make_unique<nodes::FlowOutputs>(nh, cfg_.mech);
     }
     if (resume) {
-      if (!coupled || out_.empty())
-        throw std::invalid_argument("~resume needs a coupled run (run.load dem) and ~out, the run's folder");
+      if (!checkpointed || out_.empty() || !ck_steps_)
+        throw std::invalid_argument("~resume needs a coupled (run.load dem) or fast (flow) run with "
+                                    "run.checkpoint_every_s > 0 and ~out, the run's folder");
       resume_from_checkpoint();
     } else if (cfg_.run.warm_start_s > 0) {  // before any topic: the run's clock starts after it
       mech_->warm_start(cfg_.run.warm_start_s, cfg_.run.load == "bed" ? mbd::LoadModel::Bed : mbd::LoadModel::None);
@@ -129,7 +136,7 @@ class MbdNode {
     try {
       loop();
       // The end: a resumed run extends it (what follows, the last product, belongs after the checkpoint).
-      if (ck_steps_ && leader_.completed() != last_checkpoint_) checkpoint_and_rotate();
+      if (ck_steps_ && step_index() != last_checkpoint_) checkpoint_and_rotate();
       if (!stopped_.empty()) status = nodes::stop_requested() ? nodes::stop_exit_status() : 1;
     } catch (const std::exception& e) {
       char t[32];
@@ -139,7 +146,7 @@ class MbdNode {
       stopped_ = e.what();
       // Stopped while waiting for an answer (a signal, or dem_node stopped): the mechanism has not moved since
       // it asked for that step, so its state is the one at the step dem_node checkpoints when it stops.
-      if (ck_steps_ && waiting_ && leader_.completed() != last_checkpoint_) {
+      if (ck_steps_ && waiting_ && step_index() != last_checkpoint_) {
         try {
           checkpoint_and_rotate();
         } catch (const std::exception& e2) {
@@ -171,14 +178,14 @@ class MbdNode {
         ROS_WARN("mbd_node: %s at t = %.4f s; closing the bag (the run is incomplete)", stopped_.c_str(), mech_->time());
         break;
       }
-      if (ck_steps_ && leader_.completed() % ck_steps_ == 0 && leader_.completed() != last_checkpoint_)
-        checkpoint_and_rotate();
+      if (ck_steps_ && step_index() % ck_steps_ == 0 && step_index() != last_checkpoint_) checkpoint_and_rotate();
       if (coupled) exchange(steps_per_coupling * dt);
       for (long i = 0; i < steps_per_coupling; ++i) {
         if (flow_) {  // the summary's product window opens at the settle time (t = 0 when settle_s is 0)
           if (!flow_window_ && mech_->time() >= cfg_.run.settle_s - 0.5 * dt)
             flow_window_ = chamber::snapshot(flow_->model(), mech_->time());
           flow_->step(*mech_);
+          ++flow_steps_;
         } else {
           mech_->step();
         }
@@ -392,7 +399,11 @@ class MbdNode {
              s.power_kW.mean);
   }
 
-  // ---- checkpoints (coupled runs with run.checkpoint_every_s > 0)
+  // ---- checkpoints (coupled and fast runs with run.checkpoint_every_s > 0)
+  // The step a checkpoint is named by: coupling steps completed (coupled), mechanism steps taken (flow).
+  std::uint64_t step_index() const { return flow_ ? flow_steps_ : leader_.completed(); }
+  const std::vector<std::string>& run_nodes() const { return flow_ ? coupling::fast_nodes() : coupling::coupled_nodes(); }
+
   // Old checkpoints and segments of this node in ~out belong to an earlier run: a fresh run removes them.
   void clear_own_files() {
     coupling::remove_checkpoints_after(out_, "mbd", 0);  // checkpoints are taken after step 0 only
@@ -402,15 +413,16 @@ class MbdNode {
   // Checkpoint at the current step, then a new bag segment from it.
   void checkpoint_and_rotate() {
     write_checkpoint();
-    bag_.reopen(coupling::bag_segment_path(out_, "run", leader_.completed()));
+    bag_.reopen(coupling::bag_segment_path(out_, "run", step_index()));
   }
 
   void write_checkpoint() {
     const double w0 = nodes::wall_now();
-    const std::uint64_t k = leader_.completed();
+    const std::uint64_t k = step_index();
     coupling::write_checkpoint(out_, {"mbd", k, mech_->time()}, [&](core::BinaryWriter& w) {
       mech_->save_state(w);
       w.tag("NODE");
+      w.put_string(cfg_.run.load);
       w.put(next_pub_);
       w.put(next_tf_);
       for (const auto* v : {&sig_.t_s, &sig_.x_m, &sig_.y_m, &sig_.z_m, &sig_.power_W, &sig_.speed_rad_s}) w.put_vec(*v);
@@ -423,7 +435,20 @@ class MbdNode {
         w.put_vec(product_->sieve_mm);
         w.put_vec(product_->passing_pct);
       }
-    });
+      if (flow_) {
+        flow_->save_state(w);
+        flow_out_->save_state(w);
+        w.put<char>(flow_window_.has_value());
+        if (flow_window_) {
+          w.put(flow_window_->t0);
+          w.put(flow_window_->t1);
+          w.put_vec(flow_window_->discharged0);
+          w.put_vec(flow_window_->discharged1);
+          w.put(flow_window_->energy0);
+          w.put(flow_window_->energy1);
+        }
+      }
+    }, 2, run_nodes());
     last_checkpoint_ = k;
     ROS_INFO("mbd_node: checkpoint at step %llu (t = %.4f s) in %.2f s", static_cast<unsigned long long>(k),
              mech_->time(), nodes::wall_now() - w0);
@@ -431,11 +456,14 @@ class MbdNode {
 
   void resume_from_checkpoint() {
     std::vector<std::string> damaged;
-    const uint64_t k = coupling::resume_step(out_, &damaged);
+    const uint64_t k = coupling::resume_step(out_, &damaged, run_nodes());
     for (const auto& d : damaged) ROS_WARN("%s: %s", "mbd_node", d.c_str());
     auto h = coupling::read_checkpoint(out_, "mbd", k, [&](core::BinaryReader& r) {
       mech_->load_state(r);
       r.expect("NODE");
+      const std::string load = r.get_string();
+      if (load != cfg_.run.load)
+        r.fail("the run it holds has load '" + load + "', this one '" + cfg_.run.load + "' (resume with the same load)");
       r.get(next_pub_);
       r.get(next_tf_);
       for (auto* v : {&sig_.t_s, &sig_.x_m, &sig_.y_m, &sig_.z_m, &sig_.power_W, &sig_.speed_rad_s}) r.get_vec(*v);
@@ -449,8 +477,23 @@ class MbdNode {
         r.get_vec(p.passing_pct);
         product_ = p;
       }
+      if (flow_) {
+        flow_->load_state(r);
+        flow_out_->load_state(r);
+        if (r.get<char>()) {
+          chamber::ProductWindow w;
+          r.get(w.t0);
+          r.get(w.t1);
+          r.get_vec(w.discharged0);
+          r.get_vec(w.discharged1);
+          r.get(w.energy0);
+          r.get(w.energy1);
+          flow_window_ = w;
+        }
+      }
     });
-    leader_.resume_at(k);
+    if (flow_) flow_steps_ = k;
+    else leader_.resume_at(k);
     resume_step_ = last_checkpoint_ = k;
     coupling::remove_checkpoints_after(out_, "mbd", k);
     ROS_INFO("mbd_node: resumed from the checkpoint at step %llu (t = %.4f s)", static_cast<unsigned long long>(k),
@@ -461,6 +504,7 @@ class MbdNode {
   std::string out_, config_path_;
   long ck_steps_ = 0;  // coupling steps per checkpoint (0: off)
   std::uint64_t last_checkpoint_ = 0, resume_step_ = 0;
+  std::uint64_t flow_steps_ = 0;  // mechanism steps taken in a flow run (its checkpoints' step)
   double next_pub_ = 0, next_tf_ = 0;
   double max_rtf_ = 0, wall_start_ = 0;
   std::unique_ptr<mbd::Mechanism> mech_;

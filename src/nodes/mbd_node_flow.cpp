@@ -74,6 +74,13 @@ analysis::ProductSummary flow_product(const chamber::FlowModel& f, const std::ve
 void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f,
                           BagRecorder& bag) {
   const double t = stamp.toSec(), out = f.discharged_kg();
+  // The latched displays (liners, cells, force map) are serialised for ROS only while someone listens, and once a
+  // simulated second otherwise, so that a viewer that joins late finds a recent one (the bag records every one).
+  const bool refresh_latch = t >= next_latch_t_;
+  if (refresh_latch) next_latch_t_ = t + kLatchRefresh_s;
+  auto latched = [&](ros::Publisher& pub, const auto& msg) {
+    if (refresh_latch || pub.getNumSubscribers() > 0) pub.publish(msg);
+  };
   discharged_.emplace_back(t, out);
   while (discharged_.size() > 2 && discharged_[1].first <= t - window_s_) discharged_.pop_front();
   const auto& [t0, kg0] = discharged_.front();
@@ -96,7 +103,7 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   visualization_msgs::MarkerArray liners;
   liners.markers.push_back(liner(stamp, "mantle", 0, m.liner_pose(mbd::BodyId::FloatingCone), mantle_tris_, true));
   liners.markers.push_back(liner(stamp, "concave", 1, m.liner_pose(mbd::BodyId::FixedCone), concave_tris_, false));
-  pub_liners_.publish(liners);
+  latched(pub_liners_, liners);
   bag.write("/crusher/liners", stamp, liners);
 
   // Cells holding rock at their concave point, coloured by pressure on a fixed 0-10 MPa scale (blue to red).
@@ -116,7 +123,7 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   }
   visualization_msgs::MarkerArray cells;
   cells.markers.push_back(c);
-  pub_cells_.publish(cells);
+  latched(pub_cells_, cells);
   bag.write("/crusher/chamber", stamp, cells);
 
   // The mean normal force on each concave area since the last map: the cells' impulse gained over the time passed.
@@ -131,17 +138,37 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
     fm.sectors = map_->sectors();
     fm.window_s = t - last_map_t_;
     fm.mean_normal_force = map_->map(mean);
-    pub_map_.publish(fm);
+    latched(pub_map_, fm);
     bag.write("/crusher/concave_forces", stamp, fm);
     const Eigen::Isometry3d T = m.liner_pose(mbd::BodyId::FixedCone);
     std::vector<Eigen::Vector3d> at;
     for (int a = 0; a < map_->rings() * map_->sectors(); ++a) at.push_back(T * map_->area_centre(a));
     const auto markers = force_map_markers(stamp, at, fm.mean_normal_force, force_scale_N_);
-    pub_map_markers_.publish(markers);
+    latched(pub_map_markers_, markers);
     bag.write("/crusher/concave_force_markers", stamp, markers);
   }
   last_impulse_ = J;
   last_map_t_ = t;
+}
+
+void FlowOutputs::save_state(core::BinaryWriter& w) const {
+  w.tag("FOUT");
+  std::vector<double> history;  // (t, kg) pairs
+  for (const auto& [t, kg] : discharged_) history.insert(history.end(), {t, kg});
+  w.put_vec(history);
+  w.put_vec(last_impulse_);
+  w.put(last_map_t_);
+}
+
+void FlowOutputs::load_state(core::BinaryReader& r) {
+  r.expect("FOUT");
+  std::vector<double> history;
+  r.get_vec(history);
+  if (history.size() % 2) r.fail("flow outputs: the throughput history is corrupt");
+  discharged_.clear();
+  for (std::size_t k = 0; k < history.size(); k += 2) discharged_.emplace_back(history[k], history[k + 1]);
+  r.get_vec(last_impulse_);
+  r.get(last_map_t_);
 }
 
 }  // namespace nodes

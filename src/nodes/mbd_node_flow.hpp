@@ -1,7 +1,8 @@
 #pragma once
 // mbd_node's outputs in a flow run (run.load flow): the screened product of the chamber flow model on
 // /crusher/product, the liners on /crusher/liners, the chamber's cells (coloured by pressure) on /crusher/chamber and
-// the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces.
+// the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces. All go
+// to the bag at every call; the latched display topics go to ROS while subscribed, else once a simulated second.
 #include <ros/ros.h>
 
 #include <deque>
@@ -11,6 +12,7 @@
 #include "analysis/run_metrics.hpp"
 #include "chamber/flow_model.hpp"
 #include "chamber/force_map.hpp"
+#include "core/binary_io.hpp"
 #include "mbd/mechanism.hpp"
 #include "nodes/ros_common.hpp"
 
@@ -22,6 +24,10 @@ class FlowOutputs {
   // Publishes and records the product (throughput over the last window), the liners at their pose, the cells and the
   // concave force map.
   void publish(const ros::Time& stamp, const mbd::Mechanism& m, const chamber::FlowModel& f, BagRecorder& bag);
+  // What the next messages depend on besides the model (the throughput window, the force map's last impulse), for the
+  // checkpoint of a fast run: a resumed run publishes what the uninterrupted one did, bit for bit.
+  void save_state(core::BinaryWriter& w) const;
+  void load_state(core::BinaryReader& r);
 
  private:
   ros::Publisher pub_product_, pub_liners_, pub_cells_, pub_map_, pub_map_markers_;
@@ -32,6 +38,8 @@ class FlowOutputs {
   double last_map_t_ = 0;
   std::vector<Eigen::Vector3d> mantle_tris_, concave_tris_;  // triangle-list vertices in each liner frame
   double window_s_;
+  double next_latch_t_ = 0;                        // simulated time the latched topics are next refreshed unheard
+  static constexpr double kLatchRefresh_s = 1.0;
   std::deque<std::pair<double, double>> discharged_;  // (t, kg) history for the throughput window
 };
 

@@ -415,6 +415,20 @@ TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
   EXPECT_EQ(m.mass_kg(), copy.mass_kg());
   EXPECT_EQ(m.discharged_by_class(), copy.discharged_by_class());
   EXPECT_EQ(m.crushing_energy_J(), copy.crushing_energy_J());
+  // A state is refused by a model of another material.
+  auto q = p;
+  q.material.modulus_Pa *= 1.01;
+  chamber::FlowModel other(q, mantle, concave);
+  std::stringstream again;
+  core::BinaryWriter w1(again);
+  m.save_state(w1);
+  core::BinaryReader r1(again, "flow test checkpoint");
+  try {
+    other.load_state(r1);
+    ADD_FAILURE() << "a state of another material was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("parameters differ"), std::string::npos) << e.what();
+  }
   // The product is finer than the feed: the events broke lumps.
   const auto out = m.passing(m.discharged_by_class());
   EXPECT_GT(out[4], p.feed_passing[4] + 0.05);  // 12 mm

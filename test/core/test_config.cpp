@@ -130,18 +130,21 @@ TEST(RunConfig, CheckpointIntervalIsOffByDefaultAndMustNotBeNegative) {
 
 TEST(RunConfig, CoupledOverridesApplyToDemRunsOnly) {
   auto root = ConfigNode::load_string(
-      "run: {duration_s: 10, load: bed, settle_s: 4, coupled: {warm_start_s: 6, settle_s: 0.15}}\n");
+      "run: {duration_s: 10, load: bed, settle_s: 4, checkpoint_every_s: 2,\n"
+      "      coupled: {warm_start_s: 6, settle_s: 0.15, checkpoint_every_s: 0.02}}\n");
   auto o = core::load_run_options(root.child("run"));
   EXPECT_NO_THROW(root.finish());
   auto bed = o;
   core::apply_coupled_overrides(bed);
   EXPECT_EQ(bed.settle_s, 4.0);
   EXPECT_EQ(bed.warm_start_s, 0.0);
+  EXPECT_EQ(bed.checkpoint_every_s, 2.0);
   auto dem = o;
   dem.load = "dem";  // as mbd_node's ~load:=dem
   core::apply_coupled_overrides(dem);
   EXPECT_EQ(dem.settle_s, 0.15);
   EXPECT_EQ(dem.warm_start_s, 6.0);
+  EXPECT_EQ(dem.checkpoint_every_s, 0.02);
   auto bad = ConfigNode::load_string("run: {duration_s: 10, load: dem, coupled: {settle_s: -1}}\n");
   auto msg = message_of([&] { core::load_run_options(bad.child("run")); });
   EXPECT_NE(msg.find("run.coupled.settle_s"), std::string::npos) << msg;

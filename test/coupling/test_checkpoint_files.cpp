@@ -115,3 +115,20 @@ TEST(CheckpointFiles, AFlippedBitIsRefusedByNameAndTheOlderCheckpointUsed) {
     EXPECT_NE(std::string(e.what()).find("no sound checkpoint"), std::string::npos) << e.what();
   }
 }
+
+// A fast run (run.load flow) checkpoints mbd_node alone: its pruning keeps the newest two (there is no dem file to
+// wait for), and a resume takes its newest sound step, passing over a damaged one.
+TEST(CheckpointFiles, AFastRunHasMbdAloneAndResumesFromItsNewestSoundStep) {
+  const auto out = fresh_dir("fast");
+  for (uint64_t k : {1000, 2000, 2500})
+    coupling::write_checkpoint(out, {"mbd", k, k * 1e-3}, [&](core::BinaryWriter& w) { w.put(1.0); }, 2,
+                               coupling::fast_nodes());
+  EXPECT_EQ(coupling::checkpoint_steps(out, "mbd"), (std::vector<uint64_t>{2000, 2500}));
+  EXPECT_EQ(coupling::resume_step(out, nullptr, coupling::fast_nodes()), 2500u);
+  EXPECT_THROW(coupling::resume_step(out), std::runtime_error);  // as a coupled run: no dem files
+  flip_bit(coupling::checkpoint_path(out, "mbd", 2500), 70);
+  std::vector<std::string> passed;
+  EXPECT_EQ(coupling::resume_step(out, &passed, coupling::fast_nodes()), 2000u);
+  ASSERT_EQ(passed.size(), 1u);
+  EXPECT_NE(passed[0].find("mbd.0000002500.ckpt: damaged"), std::string::npos) << passed[0];
+}

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Checks that a coupled run stopped and resumed from its checkpoint (B) is the uninterrupted run (A).
-Usage: check_resume.py A_DIR B_DIR (each holds run.bag, summary.json, breaks.csv, trajectories.csv)."""
+"""Checks that a run stopped and resumed from its checkpoint (B) is the uninterrupted run (A).
+Usage: check_resume.py A_DIR B_DIR          coupled run: each holds run.bag, summary.json, breaks.csv, trajectories.csv
+       check_resume.py --fast A_DIR B_DIR   fast (flow) run: run.bag and summary.json"""
 import json
 import os
 import sys
@@ -21,7 +22,9 @@ def messages(path):
     return out
 
 
-def main(a_dir, b_dir):
+def same_bags_and_summary(a_dir, b_dir):
+    """Every topic of B's run.bag equals A's message for message (stamp and serialized bytes); summary.json the
+    same but for wall_s."""
     a, b = messages(os.path.join(a_dir, "run.bag")), messages(os.path.join(b_dir, "run.bag"))
     if sorted(a) != sorted(b):
         fail(f"topics differ: {sorted(a)} vs {sorted(b)}")
@@ -32,14 +35,19 @@ def main(a_dir, b_dir):
             if ma != mb:
                 fail(f"{topic}: message {k} (t = {ma[0] * 1e-9:.4f} s) differs after the resume")
         print(f"topic {topic}: {len(a[topic])} messages identical")
-    steps = [m.step for _, m, _ in rosbag.Bag(os.path.join(b_dir, "run.bag")).read_messages(["/crusher/geometry_state"])]
-    if steps != list(range(len(steps))) or len(steps) != 120:
-        fail(f"coupling steps are not 0..119 exactly once: {len(steps)} states")
     sa, sb = (json.load(open(os.path.join(d, "summary.json"))) for d in (a_dir, b_dir))
     for s in (sa, sb):
         s.pop("wall_s", None)
     if sa != sb:
         fail(f"summary.json differs: {sa} vs {sb}")
+    return a
+
+
+def main(a_dir, b_dir):
+    same_bags_and_summary(a_dir, b_dir)
+    steps = [m.step for _, m, _ in rosbag.Bag(os.path.join(b_dir, "run.bag")).read_messages(["/crusher/geometry_state"])]
+    if steps != list(range(len(steps))) or len(steps) != 120:
+        fail(f"coupling steps are not 0..119 exactly once: {len(steps)} states")
     for name in ("breaks.csv", "trajectories.csv"):
         fa, fb = (open(os.path.join(d, name)).read() for d in (a_dir, b_dir))
         if fa != fb:
@@ -55,5 +63,16 @@ def main(a_dir, b_dir):
     print(f"resumed run identical to the uninterrupted one: {len(steps)} coupling steps, {n_breaks} broken bonds")
 
 
+def main_fast(a_dir, b_dir):
+    a = same_bags_and_summary(a_dir, b_dir)
+    for topic in ("/crusher/test_point", "/crusher/drive", "/crusher/product", "/crusher/chamber"):
+        if not a.get(topic):
+            fail(f"{topic} is missing from the fast run's bag")
+    print(f"resumed fast run identical to the uninterrupted one: {len(a['/crusher/test_point'])} test-point samples")
+
+
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2])
+    if sys.argv[1] == "--fast":
+        main_fast(sys.argv[2], sys.argv[3])
+    else:
+        main(sys.argv[1], sys.argv[2])

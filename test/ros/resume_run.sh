@@ -22,18 +22,12 @@ c["dem"]["bpm"]["bond"].update(normal_strength_MPa=2.5, shear_strength_MPa=0.9)
 yaml.safe_dump(c, open(sys.argv[2], "w"))
 PY
 crusher=$src/scripts/crusher
-run_case() {  # name, crusher run arguments...
-  local name=$1; shift
-  "$crusher" run "$out/case.yaml" --out "$out/$name" "$@" >"$out/$name.log" 2>&1 ||
-    { tail -n 30 "$out/$name.log"; echo "FAIL: crusher run $* failed"; exit 1; }
-}
 run_case A
 run_case B --duration 0.08
 ls "$out/B/checkpoint"
 cp "$out/B/breaks.csv" "$out/B_first_leg_breaks.csv"
 # One bit flipped in dem_node's newest checkpoint (0.08 s): refused by name, the older step (0.04 s) resumed.
-/usr/bin/python3 -c 'import sys; f = open(sys.argv[1], "r+b"); f.seek(5000); b = f.read(1); f.seek(5000); f.write(bytes([b[0] ^ 4]))' \
-  "$out/B/checkpoint/dem.0000000080.ckpt"
+flip_bit "$out/B/checkpoint/dem.0000000080.ckpt" 5000
 run_case B --duration 0.12 --resume
 grep -h "resumed\|checkpoint at\|damaged" "$out/B.log" | sed 's/\x1b\[[0-9;]*m//g' | head -n 8
 grep -q "dem.0000000080.ckpt: damaged" "$out/B.log" && grep -q "resumed from the checkpoint at step 40 " "$out/B.log" ||

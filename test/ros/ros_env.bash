@@ -21,3 +21,16 @@ start_master() {  # private master with sim time on
   for _ in $(seq 1 100); do rosparam set /use_sim_time true 2>/dev/null && return 0; sleep 0.1; done
   echo "FAIL: the ROS master did not start"; exit 1
 }
+
+# `crusher run` of a test case as a user runs it: run_case NAME ARGS... runs CONFIG=$case (default $out/case.yaml)
+# into $out/NAME, its log in $out/NAME.log; a failure prints the log's tail and fails the test.
+run_case() {
+  local name=$1; shift
+  "$src/scripts/crusher" run "${case:-$out/case.yaml}" --out "$out/$name" "$@" >"$out/$name.log" 2>&1 ||
+    { tail -n 30 "$out/$name.log"; echo "FAIL: crusher run $* failed"; exit 1; }
+}
+
+# flip_bit FILE BYTE: one bit of FILE changed in place (a damaged checkpoint).
+flip_bit() {
+  /usr/bin/python3 -c 'import sys; f = open(sys.argv[1], "r+b"); f.seek(int(sys.argv[2])); b = f.read(1); f.seek(int(sys.argv[2])); f.write(bytes([b[0] ^ 4]))' "$1" "$2"
+}
