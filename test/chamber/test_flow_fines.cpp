@@ -120,7 +120,10 @@ TEST(FlowFines, AFinesOnlyModelTakesNoFeedAndStartsEmpty) {
 TEST(FlowFines, FinesBelowTheLooseCapacityOfTheGapCarryNoLoad) {
   auto m = fines_model(6, 8);
   const std::size_t k = 2 * 8 + 0;
-  const double cap = m.cell_area(k) * 0.05 * m.loose_density();  // kg of loose fines the 50 mm gap holds
+  const auto& mat = m.params().material;
+  const double A = 2 * M_PI * 0.35 * 0.1 / 8;  // the cell's concave area: 0.1 m band, 45 deg sector at r 0.35 m
+  EXPECT_NEAR(m.cell_area(k), A, 1e-12);
+  const double cap = A * 0.05 * mat.loose_fraction * mat.solid_density;  // kg of loose fines the 50 mm gap holds
   std::vector<double> kg(m.classes(), 0.0);
   kg[1] = 0.999 * cap;
   m.deposit(m.cell_point(k), kg);
@@ -132,7 +135,6 @@ TEST(FlowFines, FinesBelowTheLooseCapacityOfTheGapCarryNoLoad) {
   m.deposit(m.cell_point(k), kg);
   const auto pressed = m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
   const double s = 1 - 1 / 1.1;
-  const auto& mat = m.params().material;
   EXPECT_NEAR(m.cell_pressure(k), mat.modulus_Pa * std::pow(s, mat.exponent), 1e-9 * mat.modulus_Pa);
   EXPECT_NEAR(pressed.normal_force, m.cell_pressure(k) * m.cell_area(k), 1e-9 * pressed.normal_force);
   EXPECT_NEAR(pressed.f_mantle.x(), -pressed.normal_force * std::cos(M_PI / 8), 1e-9 * pressed.normal_force);

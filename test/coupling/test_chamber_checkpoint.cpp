@@ -104,7 +104,9 @@ void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p,
   EXPECT_EQ(pa.metaparticles_fragmented, pb.metaparticles_fragmented);
   EXPECT_EQ(pa.crushed_kg, pb.crushed_kg);
   EXPECT_EQ(pa.fines_bed_kg, pb.fines_bed_kg);
-  if (p.fines_flow) EXPECT_GT(pa.fines_bed_kg, 0.0);
+  if (p.fines_flow) {
+    EXPECT_GT(pa.fines_bed_kg, 0.0);
+  }
   std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it; %ld crushed to fines, "
               "%ld to fragments\n", file.str().size(), a.world().particles().size(), a.world().bonds().size(),
               ra.breaks.size(), pa.metaparticles_crushed, pa.metaparticles_fragmented);
