@@ -184,3 +184,25 @@ TEST(FlowFines, StateWithDepositsResumesBitForBit) {
   std::printf("held %.2f kg, discharged %.2f kg, largest normal force %.0f N\n", a.mass_kg(), a.discharged_kg(), pressed);
   EXPECT_NEAR(a.fed_kg(), a.mass_kg() + a.discharged_kg(), 1e-12 * a.fed_kg());
 }
+
+// Fines fall only where the cell below has loose room (Evertsson): above a nipped (pressed) cell they pile up, above
+// an empty one they fall through and out of the bottom band.
+TEST(FlowFines, FinesPileUpAboveANippedCellAndFallThroughAnOpenOne) {
+  auto m = fines_model(6, 8);
+  const auto& mat = m.params().material;
+  const double cap = m.cell_area(0) * 0.05 * mat.loose_fraction * mat.solid_density;  // loose kg of a cell's gap
+  std::vector<double> kg(m.classes(), 0.0);
+  kg[1] = 1.2 * cap;
+  m.deposit(m.cell_point(0), kg);  // band 0, sector 0: pressed (s = 1 - 1 / 1.2)
+  kg[1] = 0.5 * cap;
+  m.deposit(m.cell_point(8), kg);  // band 1 above it
+  m.deposit(m.cell_point(9), kg);  // band 1, sector 1: the cell below is empty
+  for (int i = 0; i < 300; ++i) m.step(kRest, kRest, kComM, kComC, 1e-3, 9.81);
+  EXPECT_GT(m.cell_pressure(0), 0.0);
+  EXPECT_NEAR(m.cell_mass(0), 1.2 * cap, 1e-12 * cap);  // held while pressed
+  EXPECT_NEAR(m.cell_mass(8), 0.5 * cap, 1e-12 * cap);  // no room below: piled up
+  EXPECT_LT(m.cell_mass(9), 0.01 * cap);                // fell through (0.1 m bands: 0.14 s each from rest)
+  EXPECT_NEAR(m.discharged_kg() + m.cell_mass(1), 0.5 * cap, 0.01 * cap);  // into the band below and out
+  EXPECT_GT(m.discharged_kg(), 0.4 * cap);
+  EXPECT_NEAR(m.fed_kg(), m.mass_kg() + m.discharged_kg(), 1e-12 * m.fed_kg());
+}
