@@ -6,7 +6,7 @@ Usage: scripts/run_windows.py RUN.bag [--cycles 2]
 Windows are whole drive cycles (the power swings within a cycle). Per window: test-point amplitude x (half the
 peak-to-peak per drive cycle, averaged over the window's cycles, as summary.json), mean drive power, throughput
 (discharged mass over the window / its length), specific energy (power / throughput), and the mass in the chamber
-at the window's end (and the part of it held in the fines bed, dem.fines_bed). summary.json gives one mean over all the run after run.settle_s, which hides a chamber
+at the window's end (and the part of it held as fines in the flow model, dem.fines: flow). summary.json gives one mean over all the run after run.settle_s, which hides a chamber
 still filling up from a pre-filled start (that takes seconds of simulated time). In a coupled run also: the power
 the liners put into the rock (minus the work of the DEM's wrenches on the mantle and the concave, each step's
 wrench with the mean of the liner's twists at the step's start and end; the drive's power less this is what the

@@ -29,7 +29,7 @@ struct ProductSummary {  // from the DEM, when particles are attached
   double mass_discharged_kg = 0;
   std::vector<double> sieve_mm, passing_pct;
   double mass_lost_kg = 0;  // spilled or thrown out of the machine (not product)
-  double mass_crushed_kg = 0;  // metaparticles crushed to fines (dem.crushing): discharged or in the fines bed
+  double mass_crushed_kg = 0;  // metaparticles crushed to fines (dem.crushing): discharged or held in the chamber (dem.fines: flow)
 };
 
 struct RunSummary {

@@ -332,6 +332,7 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put(out_count_);
   w.put<int64_t>(events_);
   w.put<char>(prefilled_);
+  w.put_vec(taken_);
 }
 
 void FlowModel::load_state(core::BinaryReader& r) {
@@ -371,6 +372,8 @@ void FlowModel::load_state(core::BinaryReader& r) {
   r.get(out_count_);
   events_ = static_cast<long>(r.get<int64_t>());
   prefilled_ = r.get<char>() != 0;
+  r.get_vec(taken_);
+  if (!taken_.empty() && taken_.size() != classes()) r.fail("flow model state is corrupt");
 }
 
 }  // namespace chamber

@@ -91,6 +91,10 @@ struct FlowParams {
   FlowParams();
 };
 
+// The parameters of a model that carries only what is deposited into it (the coupled run's fines, whose coarse rock
+// is the DEM's): no choke feed, no prefill.
+FlowParams fines_only(FlowParams p);
+
 using FlowLoads = core::LinerLoads;  // on each liner, about the given centres of mass (world frame)
 
 class FlowModel {
@@ -114,8 +118,16 @@ class FlowModel {
   FlowLoads step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave, const Eigen::Vector3d& com_mantle,
                  const Eigen::Vector3d& com_concave, double h, double gravity);
 
-  // Adds rock to cell k (kg per class; no compressions yet). The DEM's fines in coupled runs; tests.
+  // Adds rock to cell k (kg per class; no compressions yet), counted as fed. Tests.
   void deposit(std::size_t k, const std::vector<double>& class_kg);
+  // The coupled run's fines (flow_model_deposit.cpp; fines_only below). Cell of a point in the concave's liner frame
+  // (band-major; points above the top band belong to it); -1 below the bottom band.
+  long cell_of(const Eigen::Vector3d& xc) const;
+  // Adds rock at xc (concave liner frame, kg per class) to the cell holding it, counted as fed; below the bottom
+  // band it is discharged at once.
+  void deposit(const Eigen::Vector3d& xc, const std::vector<double>& class_kg);
+  std::vector<double> take_discharged();  // kg per class discharged since the last take
+  double untaken_kg() const;              // kg discharged but not taken yet
   double cell_mass(std::size_t k) const { return total_[k]; }
   const double* cell_classes(std::size_t k) const { return &mass_[k * classes()]; }
   double cell_pressure(std::size_t k) const { return pressure_[k]; }  // Pa at the last step
@@ -155,6 +167,7 @@ class FlowModel {
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
   std::vector<double> out_, pass_;  // discharged per class (cumulative); scratch
+  std::vector<double> taken_;       // out_ at the last take_discharged (empty: none yet)
   double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
   long events_ = 0;
   bool prefilled_ = false;

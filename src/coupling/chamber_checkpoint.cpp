@@ -24,10 +24,15 @@ std::vector<double> fingerprint(const ChamberDem& d) {
   // Only with the size effect on, so that checkpoints written before it existed still load.
   if (p.crushing.size_exponent != 0) f.insert(f.end(), {p.crushing.size_exponent, p.crushing.reference_size});
   if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
-  if (p.fines_bed.enabled) {
-    const auto& b = p.fines_bed;
-    f.insert(f.end(), {static_cast<double>(b.bands), static_cast<double>(b.sectors), b.bulk_fraction, b.modulus_Pa,
-                       b.exponent, b.rebound, b.max_strain});
+  if (p.fines_flow) {  // the flow model that carries the fines: its cells, sieves and material
+    const auto& q = p.fines;
+    const auto& m = q.material;
+    const auto& b = m.breakage;
+    f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors), q.compaction_memory ? 1.0 : 0.0,
+                       m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression,
+                       b.s_c, b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta});
+    f.push_back(static_cast<double>(q.sieves_m.size()));
+    f.insert(f.end(), q.sieves_m.begin(), q.sieves_m.end());
   }
   for (const auto* v : {&p.sieves_m, &p.chamber.mantle.z, &p.chamber.mantle.r, &p.chamber.concave.z,
                         &p.chamber.concave.r}) {
@@ -85,7 +90,7 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   std::vector<double> f;
   r.get_vec(f, 1000);
   if (f != fingerprint(*this))
-    r.fail("written for another feed or chamber (rocks, bonds, liners, sieves, crushing, fines bed or time step "
+    r.fail("written for another feed or chamber (rocks, bonds, liners, sieves, crushing, fines' flow model or time step "
            "differ from this configuration; only the amounts fed and the duration may change)");
   prefilled_ = r.get<char>() != 0;
   for (double* v : {&prefilled_kg_, &deepest_liner_overlap_, &next_bookkeeping_, &feed_credit_kg_, &fed_kg_,

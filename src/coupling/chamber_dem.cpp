@@ -148,9 +148,11 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   if (r_feed_out_ <= r_feed_in_) throw std::invalid_argument("dem.feed.rock_size_mm: rocks do not fit the chamber top");
   if (p_.sieves_m.empty()) throw std::invalid_argument("dem.sieves_mm: at least one sieve");
   screened_kg_.assign(p_.sieves_m.size() + 1, 0.0);  // last class: above the largest sieve
-  if (p_.fines_bed.enabled)
-    fines_ = std::make_unique<FinesBed>(p_.fines_bed, p_.chamber.mantle, p_.chamber.concave, screened_kg_.size(),
-                                        rock_density_);
+  if (p_.fines_flow) {  // one chamber model: the flow model (src/chamber) carries the crushed fines
+    fines_ = std::make_unique<chamber::FlowModel>(chamber::fines_only(p_.fines), p_.chamber.mantle, p_.chamber.concave);
+    to_flow_ = chamber::SizeClassMap(p_.sieves_m, p_.fines.sieves_m);
+    from_flow_ = chamber::SizeClassMap(p_.fines.sieves_m, p_.sieves_m);
+  }
 }
 
 namespace {
@@ -238,7 +240,7 @@ void ChamberDem::bookkeeping() {
   world_->clear_breaks();
   discharge();
   if (fines_) {  // fines that fell out of the bed's bottom band
-    const auto out = fines_->take_discharged();
+    const auto out = from_flow_.map(fines_->take_discharged());
     double kg = 0;
     for (std::size_t k = 0; k < out.size(); ++k) screened_kg_[k] += out[k], kg += out[k];
     if (kg > 0) {
@@ -530,7 +532,7 @@ void ChamberDem::crush_squeezed(bool flush) {
     crushed_kg_ += P.m[i];
     ++crushed_count_;
     if (fines_) {
-      fines_->deposit(concave_->mesh().to_body(batch[n].x), cls);
+      fines_->deposit(concave_->mesh().to_body(batch[n].x), to_flow_.map(cls));
       continue;
     }
     for (std::size_t k = 0; k < cls.size(); ++k) screened_kg_[k] += cls[k];
@@ -617,7 +619,7 @@ ProductState ChamberDem::product() const {
   const auto& P = world_->particles();
   for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
   if (fines_) {
-    s.fines_bed_kg = fines_->mass_kg();
+    s.fines_bed_kg = fines_->mass_kg() + fines_->untaken_kg();  // what left its bottom joins the discharge later
     s.in_chamber_kg += s.fines_bed_kg;
   }
   const double t = world_->time(), w = std::min(p_.throughput_window_s, t);

@@ -15,7 +15,8 @@
 
 #include "core/binary_io.hpp"
 #include "coupling/chamber_params.hpp"
-#include "coupling/fines_bed.hpp"
+#include "chamber/flow_model.hpp"
+#include "chamber/size_classes.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/region_map.hpp"
 #include "dem/world.hpp"
@@ -37,8 +38,8 @@ struct BodyWrench {  // about the body's centre of mass, world frame
 struct ProductState {
   std::vector<double> sieve_m, passing_pct;  // cumulative mass passing, ascending sieves
   double fed_kg = 0, discharged_kg = 0, in_chamber_kg = 0, lost_kg = 0;
-  double crushed_kg = 0;  // metaparticles crushed to fines (metaparticle_crushing.hpp): discharged, or in the fines bed
-  double fines_bed_kg = 0;  // part of in_chamber_kg: crushed fines held in the chamber (dem.fines_bed)
+  double crushed_kg = 0;  // metaparticles crushed to fines (metaparticle_crushing.hpp): discharged, or held in the chamber (dem.fines: flow)
+  double fines_bed_kg = 0;  // part of in_chamber_kg: crushed fines held in the chamber (dem.fines: flow)
   long metaparticles_crushed = 0;     // crushed to fines (their mass is crushed_kg)
   long metaparticles_fragmented = 0;  // crushed into four fragments that stayed in the chamber (crushing.fragments)
   double throughput_kg_s = 0;  // discharged mass rate over the last window
@@ -85,7 +86,8 @@ class ChamberDem {
   double packing_density(int shape) const { return rocks_.at(shape).density(); }  // as packed
   int rock_shapes() const { return static_cast<int>(rocks_.size()); }
   double prefilled_kg() const { return prefilled_kg_; }
-  double fines_normal_force() const { return fines_force_; }   // N, fines bed on the mantle at the last step
+  double fines_normal_force() const { return fines_force_; }   // N, the fines' p A on the liners at the last step
+  const chamber::FlowModel* fines() const { return fines_.get(); }  // dem.fines: flow; else null
   // Deepest sphere-liner overlap / sphere radius since the start: spheres larger than the liners' gap get
   // squeezed (coarse metaparticles at a narrow setting), inflating the liner forces.
   double deepest_liner_overlap() const { return deepest_liner_overlap_; }
@@ -160,7 +162,8 @@ class ChamberDem {
   std::vector<uint64_t> tracked_ids_;
   std::vector<TrackedPoint> tracks_;
   Eigen::Vector3d concave_origin_ = Eigen::Vector3d::Zero();
-  std::unique_ptr<FinesBed> fines_;
+  std::unique_ptr<chamber::FlowModel> fines_;    // dem.fines: flow: the crushed fines in the chamber
+  chamber::SizeClassMap to_flow_, from_flow_;     // dem.sieves_mm classes <-> the flow model's
   double fines_force_ = 0, gravity_ = 0;  // N, m/s^2
   rocks::Rng rng_;  // reproducible feed positions, shapes and orientations
 };

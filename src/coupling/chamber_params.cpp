@@ -1,5 +1,6 @@
 #include "coupling/chamber_params.hpp"
 
+#include "chamber/flow_config.hpp"
 #include "core/units.hpp"
 
 namespace coupling {
@@ -54,20 +55,10 @@ const core::Schema<ChamberParams>& chamber_schema() {
                 [](P& p) -> double& { return p.crushing.reference_size; }, "size at which the strength was measured")
         .number("crushing.size_exponent", "", 1, 0, 1.5, [](P& p) -> double& { return p.crushing.size_exponent; },
                 "size effect of the strength (0: none)")
-        .boolean("fines_bed.enabled", [](P& p) -> bool& { return p.fines_bed.enabled; },
-                 "crushed fines kept as a bed on the liners (default true when fines_bed: is given)")
-        .integer("fines_bed.bands", 1, 200, [](P& p) -> int& { return p.fines_bed.bands; }, "fines bed: height bands")
-        .integer("fines_bed.sectors", 1, 360, [](P& p) -> int& { return p.fines_bed.sectors; }, "fines bed: sectors")
-        .number("fines_bed.bulk_fraction", "", 1, 0.1, 0.9, [](P& p) -> double& { return p.fines_bed.bulk_fraction; },
-                "solid fraction of loose fines")
-        .number("fines_bed.modulus_MPa", "MPa", u::MPa, 0.01, 1e5, [](P& p) -> double& { return p.fines_bed.modulus_Pa; },
-                "virgin loading p = E e^n: E")
-        .number("fines_bed.exponent", "", 1, 1, 4, [](P& p) -> double& { return p.fines_bed.exponent; },
-                "virgin loading p = E e^n: n")
-        .number("fines_bed.rebound", "", 1, 0.01, 1, [](P& p) -> double& { return p.fines_bed.rebound; },
-                "recovered fraction of each compression")
-        .number("fines_bed.max_strain", "", 1, 0.05, 0.95, [](P& p) -> double& { return p.fines_bed.max_strain; },
-                "compaction limit; fines pressed past it are extruded")
+        .choice("fines", {"discharge", "flow"}, [](const P& p) { return std::string(p.fines_flow ? "flow" : "discharge"); },
+                [](P& p, const std::string& v) { p.fines_flow = v == "flow"; },
+                "crushed fines: leave at once (discharge), or stay in the chamber carried by the chamber flow model "
+                "with the flow: section's material, cells and sieves (flow)")
         .integer("feed.shapes", 1, 16, [](P& p) -> int& { return p.feed.shapes; }, "irregular rock shapes")
         .number("feed.rock_size_mm", "mm", u::mm, 5, 300, [](P& p) -> double& { return p.feed.rock_size_m; },
                 "feed top size", true)
@@ -106,16 +97,21 @@ const core::Schema<ChamberParams>& chamber_schema() {
 }
 
 ChamberParams load_chamber_params(const ConfigNode& dem, const core::ChamberGeometry& chamber,
-                                  double mantle_com_z_m, double concave_com_z_m) {
+                                  double mantle_com_z_m, double concave_com_z_m, const ConfigNode* flow) {
   ChamberParams p;
   p.chamber = chamber;
   p.mantle_com_z_m = mantle_com_z_m;
   p.concave_com_z_m = concave_com_z_m;
-  p.crushing.enabled = dem.has("crushing");  // a crushing: or fines_bed: mapping turns it on unless it says not
-  p.fines_bed.enabled = dem.has("fines_bed");
+  if (dem.has("fines_bed"))
+    dem.fail("fines_bed", "was replaced by dem.fines: flow (the crushed fines are carried by the chamber flow model, "
+                          "its material, cells and sieves from the flow: section); remove dem.fines_bed");
+  p.crushing.enabled = dem.has("crushing");  // a crushing: mapping turns it on unless it says not
   chamber_schema().read(dem, p);
-  if (p.fines_bed.enabled && !p.crushing.enabled)
-    dem.child("fines_bed").fail("enabled", "retains the fines of dem.crushing, which is off");
+  if (p.fines_flow && !p.crushing.enabled) dem.fail("fines", "flow carries the fines of dem.crushing, which is off");
+  if (p.fines_flow && flow && !flow->has("material") && !flow->has("material_file"))
+    dem.fail("fines", "flow takes the fines' material from the flow: section (flow.material or flow.material_file, as "
+                      "the fast mode reads it); this config has neither");
+  if (p.fines_flow) p.fines = chamber::fines_only(flow ? chamber::load_flow_params(*flow) : chamber::FlowParams());
   if (!dem.has("bpm_file")) p.bpm = rocks::bpm_model_from_config(dem.child("bpm"));
   return p;
 }

@@ -9,7 +9,7 @@
 #include "core/chamber_geometry.hpp"
 #include "core/config.hpp"
 #include "core/config_schema.hpp"
-#include "coupling/fines_bed.hpp"
+#include "chamber/flow_model.hpp"
 #include "coupling/metaparticle_crushing.hpp"
 #include "rocks/bpm_config.hpp"
 
@@ -53,7 +53,10 @@ struct ChamberParams {
   double throughput_window_s = 0.5;   // discharged-mass rate averaged over this window
   int tracked_particles = 4;          // trajectories of a few particles (section 4.2.2)
   CrushingParams crushing;            // metaparticles crushed to fines against the liners (off: the paper's model)
-  FinesBedParams fines_bed;           // crushed fines kept in the chamber as a bed on the liners (off: they leave at once)
+  // dem.fines: flow: crushed fines stay in the chamber, carried by the chamber flow model (src/chamber) with the
+  // `flow:` section's material, cells and sieves, as fines only (chamber::fines_only); discharge: they leave at once.
+  bool fines_flow = false;
+  chamber::FlowParams fines;          // when fines_flow
   std::string bpm_file;               // config: dem.bpm_file as given ("" none: the bpm mapping); its model is in bpm
 };
 
@@ -62,8 +65,11 @@ const core::Schema<ChamberParams>& chamber_schema();
 
 // Reads the `dem:` mapping; `chamber` and the COM heights come from the mechanism parameters.
 // The BPM is `dem.bpm` (inline, rocks/bpm_config.hpp format) or `dem.bpm_file` (a file such as
-// bpm_calibrated.yaml written by the calibration, relative to the config's folder).
+// bpm_calibrated.yaml written by the calibration, relative to the config's folder). flow: the config's `flow:`
+// mapping, read for dem.fines: flow (null: the flow model's defaults). The retired `dem.fines_bed` is refused,
+// naming what replaced it.
 ChamberParams load_chamber_params(const core::ConfigNode& dem, const core::ChamberGeometry& chamber,
-                                  double mantle_com_z_m, double concave_com_z_m);
+                                  double mantle_com_z_m, double concave_com_z_m,
+                                  const core::ConfigNode* flow = nullptr);
 
 }  // namespace coupling

@@ -19,6 +19,7 @@
 #include <deque>
 #include <fstream>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <thread>
 #include <sys/stat.h>
@@ -52,9 +53,9 @@ Config load_config(const std::string& path) {
   core::apply_coupled_overrides(c.run);
   c.coupling = core::load_coupling_options(root.child_or_empty("coupling"));
   auto mech = mbd::load_mechanism_params(root.child("mbd"));  // the liner geometry is the mechanism's
+  const auto flow = root.child_or_empty("flow");  // the chamber flow model: dem.fines: flow carries the fines in it
   c.chamber = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
-                                            mech.fixed_cone.com_z_m);
-  root.ignore("flow");  // mbd_node's chamber flow model
+                                            mech.fixed_cone.com_z_m, &flow);
   root.ignore("diagnosis");  // crusher diagnose's
   root.finish();
   return c;
@@ -207,11 +208,17 @@ class DemNode {
     write_trajectories();
     const auto p = dem_->product();
     ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg; "
-             "%.2f kg in %ld metaparticles crushed to fines (%.2f kg of them still in the fines bed), %ld crushed into "
+             "%.2f kg in %ld metaparticles crushed to fines (%.2f kg of them still in the chamber, dem.fines: flow), %ld crushed into "
              "fragments that stayed; %.1f %% of the wall time in coupling waits",
              dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
              p.crushed_kg, p.metaparticles_crushed, p.fines_bed_kg, p.metaparticles_fragmented,
              100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
+    if (const auto* f = dem_->fines()) {  // dem.fines: flow: the fines' own load over the run
+      const auto& J = f->normal_impulse();
+      ROS_INFO("dem_node: fines in the flow model: %.3f kg deposited, %.3f kg held, %.3f kg discharged, mean normal "
+               "force on the liners %.2f kN over %.3f s", f->fed_kg(), f->mass_kg(), f->discharged_kg(),
+               1e-3 * std::accumulate(J.begin(), J.end(), 0.0) / std::max(1e-12, dem_->time()), dem_->time());
+    }
     if (p.metaparticles_fragmented > 0)
       ROS_INFO("dem_node: fragment birth (this process): deepest overlap %.2f of the smaller radius in the best "
                "orientation, %ld fragments born smaller to stay within %.2f", dem_->deepest_birth_overlap(),
@@ -286,7 +293,7 @@ class DemNode {
     // The first line of a (resumed) run has no rate yet.
     const std::string eta = core::duration_text(done > 0 ? el * (T - t) / done : NAN);
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %s, %zu particles, %ld broken bonds, fed %.1f kg, "
-             "discharged %.2f kg (crushed %.2f kg; fines bed %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta.c_str(),
+             "discharged %.2f kg (crushed %.2f kg; fines held %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta.c_str(),
              dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg,
              p.fines_bed_kg, 1e-3 * dem_->fines_normal_force());
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {

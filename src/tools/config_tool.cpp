@@ -103,16 +103,18 @@ YAML::Node resolved_json_tree(const std::string& file) {
   const auto run = core::load_run_options(root.child("run"));
   const auto coupling = core::load_coupling_options(root.child_or_empty("coupling"));
   const auto mech = mbd::load_mechanism_params(root.child("mbd"));
-  const auto flow = chamber::load_flow_params(root.child_or_empty("flow"));
+  const auto flow_node = root.child_or_empty("flow");
+  const auto flow = chamber::load_flow_params(flow_node);
   coupling::ChamberParams dem;
   if (run.load == "dem")
     dem = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
-                                        mech.fixed_cone.com_z_m);
+                                        mech.fixed_cone.com_z_m, &flow_node);
   else
     root.ignore("dem");  // dem_node's, read when the load is dem
   root.ignore("diagnosis");  // crusher diagnose's uncertain values, checked by diagnose (analysis/param_set.hpp)
   root.finish();
   if (run.load == "flow") chamber::FlowModel(flow, mech.chamber.mantle, mech.chamber.concave);
+  if (run.load == "dem" && dem.fines_flow) chamber::FlowModel(dem.fines, mech.chamber.mantle, mech.chamber.concave);
   mbd::validate(mech, run.load == "bed");
   if (run.load == "dem") core::coupling_steps(coupling.dt_s, mech.dt_s);
   YAML::Node out = YAML::Clone(root.raw());

@@ -78,8 +78,9 @@ inline std::string quick_demo_text() {
 inline coupling::ChamberParams chamber_params_of(const std::string& text) {
   auto root = core::ConfigNode::load_string(text, "quick_demo+test");
   const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  const auto flow = root.child_or_empty("flow");
   return coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
-                                       mech.fixed_cone.com_z_m);
+                                       mech.fixed_cone.com_z_m, &flow);
 }
 
 // The quick demo's chamber parameters with `extra` (YAML lines) inserted before the line `before` (which must be

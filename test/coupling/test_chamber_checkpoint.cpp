@@ -104,7 +104,9 @@ void expect_restored_run_continues_bit_for_bit(const coupling::ChamberParams& p,
   EXPECT_EQ(pa.metaparticles_fragmented, pb.metaparticles_fragmented);
   EXPECT_EQ(pa.crushed_kg, pb.crushed_kg);
   EXPECT_EQ(pa.fines_bed_kg, pb.fines_bed_kg);
-  if (p.fines_bed.enabled) EXPECT_GT(pa.fines_bed_kg, 0.0);
+  if (p.fines_flow) {
+    EXPECT_GT(pa.fines_bed_kg, 0.0);
+  }
   std::printf("checkpoint: %zu bytes for %zu particles, %zu bonds; %zu breaks after it; %ld crushed to fines, "
               "%ld to fragments\n", file.str().size(), a.world().particles().size(), a.world().bonds().size(),
               ra.breaks.size(), pa.metaparticles_crushed, pa.metaparticles_fragmented);
@@ -149,15 +151,17 @@ TEST(ChamberCheckpoint, RestoredRunWithGrowingFragmentsContinuesBitForBit) {
   expect_restored_run_continues_bit_for_bit(p, true);
 }
 
-// With the retained-fines bed: its masses, fall speeds, hysteretic memory and the coarse rock's volumes.
-TEST(ChamberCheckpoint, RestoredRunWithAFinesBedContinuesBitForBit) {
+// With the crushed fines in the flow model (dem.fines: flow): its masses by class, fall speeds, hysteretic memory,
+// compression counts and the discharge not yet taken.
+TEST(ChamberCheckpoint, RestoredRunWithFinesInTheFlowModelContinuesBitForBit) {
   auto p = small_filled_chamber();
   p.crushing.enabled = true;
   p.crushing.tensile_strength = 0.5e6;
   p.crushing.batch_s = 2e-4;
-  p.fines_bed.enabled = true;
-  p.fines_bed.bands = 8;
-  p.fines_bed.sectors = 12;
+  p.fines_flow = true;
+  p.fines = chamber::fines_only(chamber::FlowParams());
+  p.fines.bands = 8;
+  p.fines.sectors = 12;
   expect_restored_run_continues_bit_for_bit(p);
 }
 
@@ -189,14 +193,21 @@ TEST(ChamberCheckpoint, RefusesAFileOfAnotherFeedOrATruncatedOne) {
   const std::string e2 = load_error(p, bytes.substr(0, bytes.size() / 2), "half.ckpt");
   ASSERT_FALSE(e2.empty()) << "a truncated checkpoint was accepted";
   EXPECT_NE(e2.find("truncated"), std::string::npos) << e2;
-  // A fines bed with another compaction limit (as the checkpoints of the bed before it had one, cap 0.6).
+  // Fines in a flow model of another material (its compaction limit), or of other cells, or none.
   auto bed = p;
   bed.crushing.enabled = true;
-  bed.fines_bed.enabled = true;
+  bed.fines_flow = true;
+  bed.fines = chamber::fines_only(chamber::FlowParams());
   const std::string bed_bytes = checkpoint_after_two_steps(bed);
   auto looser = bed;
-  looser.fines_bed.max_strain = 0.6;
+  looser.fines.material.max_compression = 0.3;
   const std::string e3 = load_error(looser, bed_bytes, "bed.ckpt");
-  EXPECT_NE(e3.find("fines bed"), std::string::npos) << e3;
+  EXPECT_NE(e3.find("fines' flow model"), std::string::npos) << e3;
+  auto finer = bed;
+  finer.fines.bands += 1;
+  EXPECT_NE(load_error(finer, bed_bytes, "bed.ckpt").find("fines' flow model"), std::string::npos);
+  auto none = bed;
+  none.fines_flow = false;
+  EXPECT_NE(load_error(none, bed_bytes, "bed.ckpt").find("fines' flow model"), std::string::npos);
   EXPECT_EQ(load_error(bed, bed_bytes, "bed.ckpt"), "");
 }
