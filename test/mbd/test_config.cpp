@@ -27,6 +27,7 @@ mbd::MechanismParams load_text(const std::string& text) {
   core::load_coupling_options(root.child_or_empty("coupling"));
   root.ignore("dem");   // dem_node's section
   root.ignore("flow");  // the chamber flow model's
+  root.ignore("diagnosis");  // crusher diagnose's uncertain values
   root.finish();
   return p;
 }
