@@ -3,27 +3,15 @@
 #include <iomanip>
 #include <sstream>
 
+#include "analysis/json_text.hpp"
 #include "analysis/diagnosis.hpp"
 #include "analysis/inputs_report.hpp"
 
 namespace analysis {
 namespace {
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') { o += "\\n"; continue; }
-    o += c;
-  }
-  return o;
-}
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream o;
-  o << std::setprecision(8) << v;
-  return o.str();
-}
+using json::esc;
+using json::num;
 std::string arr(const std::vector<double>& v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);

@@ -1,4 +1,5 @@
 #include "analysis/inputs_report.hpp"
+#include "analysis/json_text.hpp"
 
 #include <cmath>
 #include <iomanip>
@@ -6,21 +7,8 @@
 
 namespace analysis {
 namespace {
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') { o += "\\n"; continue; }
-    o += c;
-  }
-  return o;
-}
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream o;
-  o << std::setprecision(8) << v;
-  return o.str();
-}
+using json::esc;
+using json::num;
 }  // namespace
 
 std::string inputs_json(const std::vector<const Dataset*>& datasets) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "analysis/diagnosis.hpp"
+#include "analysis/json_text.hpp"
 
 namespace analysis {
 
@@ -108,21 +109,8 @@ class SummaryObjective : public Objective {
   std::vector<RowComparison> reference_, current_;
 };
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (c == '\n') { o += "\\n"; continue; }
-    o += c;
-  }
-  return o;
-}
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream o;
-  o << std::setprecision(8) << v;
-  return o.str();
-}
+using json::esc;
+using json::num;
 void stats_json(std::ostringstream& o, const Stats& s) {
   o << "{";
   bool first = true;
