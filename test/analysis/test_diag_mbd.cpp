@@ -20,24 +20,31 @@ mbd::MechanismParams base_params() {
   return mbd::load_mechanism_params(root.child("mbd"));
 }
 
-std::vector<Recording> make_recordings(const mbd::MechanismParams& base, const std::string& effect, double value) {
+// 2 s at 400 and 600 rpm of `mech` (time step scaled by at_speed) with sensor errors: noise, a time offset
+// tau0 + dtau per speed, a gain, seeds seed, seed + 1.
+std::vector<Recording> recordings_of(const mbd::MechanismParams& mech, double noise, double tau0, double dtau,
+                                     double gain, std::uint64_t seed) {
   std::vector<Recording> recs;
   int i = 0;
   for (double rpm : {400.0, 600.0}) {
     mbd::SimOptions so;
     so.duration_s = 2.0;
     so.settle_s = MbdModelOptions().settle_s;
-    const auto p = with_effect(at_speed(base, rpm * core::units::rpm), effect, value);
+    const auto p = at_speed(mech, rpm * core::units::rpm);
     SensorErrors e;
-    e.noise_rel = 0.003;
-    e.time_offset_s = 0.031 - 0.014 * i;
-    e.gain = 0.97;
-    e.seed = 100 + i;
+    e.noise_rel = noise;
+    e.time_offset_s = tau0 + dtau * i;
+    e.gain = gain;
+    e.seed = seed + i;
     recs.push_back(apply_sensor_errors(from_fields(mbd::simulate(p, so), ""), e));
     recs.back().source = "rec" + std::to_string(static_cast<int>(rpm));
     ++i;
   }
   return recs;
+}
+
+std::vector<Recording> make_recordings(const mbd::MechanismParams& base, const std::string& effect, double value) {
+  return recordings_of(with_effect(base, effect, value), 0.003, 0.031, -0.014, 0.97, 100);
 }
 
 // The plant's control system knows the drive set points (400 and 600 rpm).
@@ -109,22 +116,7 @@ struct ConfigCase {
     return t;
   }();
   DiagnosisResult run(const ParamSet& concealed, std::uint64_t seed) const {
-    std::vector<Recording> recs;
-    int i = 0;
-    for (double rpm : {400.0, 600.0}) {
-      mbd::SimOptions so;
-      so.duration_s = 2.0;
-      so.settle_s = MbdModelOptions().settle_s;
-      const auto p = at_speed(cfg.mechanism(concealed, terms), rpm * core::units::rpm);
-      SensorErrors e;
-      e.noise_rel = 0.004;
-      e.time_offset_s = 0.017 + 0.011 * i;
-      e.gain = 1.02;
-      e.seed = seed + i;
-      recs.push_back(apply_sensor_errors(from_fields(mbd::simulate(p, so), ""), e));
-      recs.back().source = "rec" + std::to_string(static_cast<int>(rpm));
-      ++i;
-    }
+    const auto recs = recordings_of(cfg.mechanism(concealed, terms), 0.004, 0.017, 0.011, 1.02, seed);
     return diagnose(recs, make_mbd_model(cfg, terms), terms, options());
   }
 };
