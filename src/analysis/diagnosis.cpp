@@ -71,13 +71,17 @@ double total_excess(const std::vector<Comparison>& cs) {
 class SeriesObjective : public Objective {
  public:
   SeriesObjective(const ModelFn& model, const DiagnosisOptions& opt, const std::vector<Dataset>& train,
-                  const std::vector<Dataset>& heldout)
-      : model_(model), opt_(opt), train_(train), heldout_(heldout) {}
+                  const std::vector<Dataset>& heldout, const std::vector<Term>& terms)
+      : model_(model), opt_(opt), train_(train), heldout_(heldout) {
+    for (const auto& t : terms) nominal_[t.name] = t.nominal;
+  }
 
   const ChannelHarmonics& harmonics(const ParamSet& p_in, double speed) {
-    ParamSet p;  // a term at zero strength is the unchanged model (effects' nominal is 0): run it once
-    for (const auto& [k, v] : p_in)
-      if (v != 0.0 || k.find('.') != std::string::npos) p[k] = v;
+    ParamSet p;  // a term at its nominal value is the unchanged model: run it once
+    for (const auto& [k, v] : p_in) {
+      const auto n = nominal_.find(k);
+      if (n == nominal_.end() || v != n->second) p[k] = v;
+    }
     auto key = std::make_pair(to_string(p), speed);
     auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
@@ -158,6 +162,7 @@ class SeriesObjective : public Objective {
   const DiagnosisOptions& opt_;
   const std::vector<Dataset>& train_;
   const std::vector<Dataset>& heldout_;
+  std::map<std::string, double> nominal_;  // term name -> the value at which the model is unchanged
   std::map<std::pair<std::string, double>, ChannelHarmonics> cache_;
 };
 
@@ -204,7 +209,7 @@ DiagnosisResult diagnose(const std::vector<Recording>& recordings, const ModelFn
     r.train[0].setpoint = setpoint_of(0);
     for (std::size_t i = 1; i < recordings.size(); ++i) r.heldout[i - 1].setpoint = setpoint_of(i);
   }
-  SeriesObjective ev(model, opt, r.train, r.heldout);
+  SeriesObjective ev(model, opt, r.train, r.heldout, candidates);
 
   // Locate: unchanged model, first without and then with the non-physical alignment.
   r.naive_train = ev.compare_all({}, r.train, false);

@@ -134,15 +134,16 @@ Recording read_any(const std::string& path, const PlantFormat* plant) {
 }
 
 // fitted.yaml: the config (its base chain resolved) with the named terms at their fitted values.
-std::string fitted_yaml(const ConfigModel& cfg, const DiagnosisResult& r, const std::vector<Term>& terms) {
+std::string fitted_yaml(const ConfigModel& cfg, const std::string& effect, const std::vector<TermFit>& named,
+                        const ParamSet& fitted, const std::vector<Term>& terms) {
   std::ostringstream y;
-  y << "# Written by diagnose from " << cfg.file() << ": " << r.effect;
-  for (const auto& c : r.named)
+  y << "# Written by diagnose from " << cfg.file() << ": " << effect;
+  for (const auto& c : named)
     y << "\n#   " << c.term.key() << (c.term.scale ? " scaled by " : " = ") << c.value << " +- " << c.sigma << " "
       << c.term.unit;
-  if (r.named.empty()) y << " (model unchanged)";
+  if (named.empty()) y << " (model unchanged)";
   y << "\n";
-  YAML::Node root = cfg.with(r.fitted, terms);
+  YAML::Node root = cfg.with(fitted, terms);
   YAML::Emitter em;
   em << root;
   y << em.c_str() << "\n";
@@ -237,11 +238,7 @@ int main(int argc, char** argv) {
       const fs::path dir(out);
       write_text(dir / "diagnosis.json", summary_diagnosis_json(d));
       write_text(dir / "report.md", summary_diagnosis_markdown(d));
-      DiagnosisResult r;
-      r.effect = d.effect;
-      r.named = d.selection.named;
-      r.fitted = d.selection.fitted;
-      write_text(dir / "fitted.yaml", fitted_yaml(cfg, r, candidates));
+      write_text(dir / "fitted.yaml", fitted_yaml(cfg, d.effect, d.selection.named, d.selection.fitted, candidates));
       if (plots) core::run_plot_script("diagnose", "plot_diagnosis.py", dir.string());
       std::cout << "effect " << d.effect << "\n" << d.reason << "\n";
       for (const auto& c : d.selection.named)
@@ -288,7 +285,7 @@ int main(int argc, char** argv) {
     const fs::path dir(out);
     write_text(dir / "diagnosis.json", diagnosis_json(r));
     write_text(dir / "report.md", diagnosis_markdown(r));
-    write_text(dir / "fitted.yaml", fitted_yaml(cfg, r, candidates));
+    write_text(dir / "fitted.yaml", fitted_yaml(cfg, r.effect, r.named, r.fitted, candidates));
 
     if (plots) {
       int i = 0;
