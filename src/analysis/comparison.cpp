@@ -208,7 +208,8 @@ Alignment align(const Dataset& d, const ChannelHarmonics& m, bool fit_gain, bool
         den += w * f * std::norm(mk);
       }
     }
-    return den > 0 ? num / den : 1.0;
+    // A sensor gain is positive: with an odd-order-dominated motion, tau + T/2 and -g would fit almost as well.
+    return den > 0 ? std::max(0.0, num / den) : 1.0;
   };
   auto cost_at = [&](double tau) {
     Alignment t = a;
@@ -217,10 +218,9 @@ Alignment align(const Dataset& d, const ChannelHarmonics& m, bool fit_gain, bool
     return harmonic_cost(d, m, t);
   };
   if (fit_tau) {
-    // Scan one period finely enough for the highest order, then golden-section refine.
+    // Scan one period finely enough for the highest order, then golden-section refine (around 0 too).
     const int n = 8 * kFitOrders + 1;
-    Minimum best = minimise_scan_golden(cost_at, 0.0, a.period_s, n, 1e-9 * a.period_s);
-    a.tau_s = std::fmod(best.x + a.period_s, a.period_s);
+    a.tau_s = minimise_periodic_scan_golden(cost_at, a.period_s, n, 1e-9 * a.period_s).x;
   }
   a.gain = fit_gain ? best_gain(a.tau_s) : 1.0;
   return a;

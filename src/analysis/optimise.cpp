@@ -46,6 +46,23 @@ Minimum minimise_scan_golden(const std::function<double(double)>& f, double a, d
   return m;
 }
 
+Minimum minimise_periodic_scan_golden(const std::function<double(double)>& f, double period, int n, double tol) {
+  if (n < 3) throw std::invalid_argument("minimise_periodic_scan_golden: need at least 3 scan points");
+  if (!(period > 0)) throw std::invalid_argument("minimise_periodic_scan_golden: the period must be positive");
+  const double step = period / n;
+  int best = 0;
+  double fbest = f(0.0);
+  for (int i = 1; i < n; ++i) {
+    const double v = f(i * step);
+    if (v < fbest) fbest = v, best = i;
+  }
+  Minimum m = golden_section(f, (best - 1) * step, (best + 1) * step, tol);
+  m.evaluations += n;
+  if (fbest < m.f) { m.x = best * step; m.f = fbest; }
+  m.x = std::fmod(std::fmod(m.x, period) + period, period);
+  return m;
+}
+
 double second_derivative(const std::function<double(double)>& f, double x, double fx, double h) {
   return (f(x + h) - 2.0 * fx + f(x - h)) / (h * h);
 }

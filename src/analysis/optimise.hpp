@@ -18,6 +18,9 @@ Minimum golden_section(const std::function<double(double)>& f, double a, double 
 // Coarse scan of n equally spaced points on [a, b] (guards against several local minima), then
 // golden-section on the bracket around the best point. Returns the best point seen.
 Minimum minimise_scan_golden(const std::function<double(double)>& f, double a, double b, int n, double tol);
+// The same for a function of period P: n points on [0, P), the bracket wraps around 0 (a minimum just below 0
+// is found at P - x, not clipped to 0). Returns x in [0, P).
+Minimum minimise_periodic_scan_golden(const std::function<double(double)>& f, double period, int n, double tol);
 // Second derivative of f at x by central differences with step h (f(x) known as fx).
 double second_derivative(const std::function<double(double)>& f, double x, double fx, double h);
 

@@ -93,6 +93,19 @@ TEST(DiagOptimise, GoldenSectionAndScan) {
   EXPECT_NEAR(second_derivative(f, 2.0, f(2.0), 1e-3), 2.0, 1e-6);
 }
 
+TEST(DiagOptimise, PeriodicScanFindsAMinimumJustBelowZero) {
+  // A minimum 0.3 % of a period below 0: the wrapped bracket finds it at P - 0.003 P (a bracket clipped
+  // at 0 returned 0, a phase error that the diagnosis read as structured residual).
+  const double P = 0.15;
+  for (double x0 : {-0.003 * P, 0.003 * P, 0.5 * P, 0.997 * P}) {
+    auto f = [&](double x) { return 1.0 - std::cos(2 * M_PI * (x - x0) / P); };
+    Minimum m = minimise_periodic_scan_golden(f, P, 17, 1e-12 * P);
+    EXPECT_NEAR(m.x, std::fmod(x0 + P, P), 1e-6 * P) << "x0 " << x0;  // flat bottom: sqrt(eps)
+    EXPECT_GE(m.x, 0.0);
+    EXPECT_LT(m.x, P);
+  }
+}
+
 TEST(DiagAlignment, RecoversKnownOffsetAndGain) {
   const double w = 400 * 2 * M_PI / 60;
   Recording model = diagtest::synthetic_run("none", 0, w, 1.0);
