@@ -1,13 +1,17 @@
 // make_recording: a test recording from the model with one concealed effect switched on, plus sensor
 // noise, a time offset and a displacement-gain error. The effect's name is not written to the file.
 //   make_recording --config BASE.yaml --effect NAME|none --value V [--load bed|flow] [--noise-std R]
-//                  [--time-offset-s S] [--gain G] [--seconds S] [--seed N] [--speed-rpm RPM] [--settle-s S] --out FILE.csv
+//                  [--time-offset-s S] [--gain G] [--seconds S] [--seed N] [--speed-rpm RPM] [--settle-s S]
+//                  [--set KEY=V] [--scale KEY=F] --out FILE.csv
+// --set / --scale conceal a miscalibrated config value (any schema key, KEY[i] for a list element; --scale
+// multiplies every number under the key), as the diagnosis refits them (analysis/param_set.hpp).
 // --noise-std is relative: noise std = R x channel scale (std of the channel, at least 1 % of its mean).
 // --load bed (default): the mechanism with the equivalent bed (mbd::simulate); --load flow: under the chamber flow
 // model (analysis::run_flow, the config's flow: section), the only load the chamber effects act in.
 // With --columns it writes a plant-style export instead (analysis/plant_export.hpp): the mapped columns in
 // their units, delimiter and decimal separator, values rounded to --resolution, and plant habits on demand:
 // the speed logged at its set point, rows of missing values, a gap, another sample rate.
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <iostream>
@@ -15,6 +19,7 @@
 
 #include "analysis/flow_run.hpp"
 #include "analysis/mbd_model.hpp"
+#include "analysis/param_set.hpp"
 #include "chamber/flow_config.hpp"
 #include "analysis/plant_export.hpp"
 #include "analysis/sensor_model.hpp"
@@ -31,7 +36,8 @@ int main(int argc, char** argv) {
       "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners --value V [--load bed|flow "
       "(default bed)] [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
       "[--gain G (default 1)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
-      "config)] [--settle-s S (default 4)] --out FILE.csv\n"
+      "config)] [--settle-s S (default 4)] [--set KEY=V] [--scale KEY=F] (repeatable: a config value concealed,\n"
+      "  KEY as in diagnosis.uncertain, e.g. mbd.fixed_cone.mass_kg, flow.material.pressure.modulus_MPa) --out FILE.csv\n"
       "  plant-style export: --columns t=COL[UNIT],x=COL[UNIT],... (keys t x y z ax ay az power speed, as in\n"
       "  diagnose) [--delimiter ,|;|tab] [--decimal .|,] [--resolution KEY=VALUE[UNIT],...] [--speed-setpoint\n"
       "  (speed logged constant at the drive set point)] [--missing-rows N (rows written as NaN)]\n"
@@ -47,6 +53,8 @@ int main(int argc, char** argv) {
   std::string columns, delimiter, decimal, resolution;
   long missing_rows = 0;
   double gap_t0 = -1, gap_len = 0, sample_hz = 1000;
+  std::vector<Term> concealed_terms;  // --set / --scale: config values changed before the run
+  ParamSet concealed;
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -81,6 +89,21 @@ int main(int argc, char** argv) {
         gap_len = std::strtod(rest, &end);
         if (!end || *end || end == rest || !(gap_len > 0)) throw std::invalid_argument("--gap " + g + ": accepted T0:LEN in seconds");
       }
+      else if (a == "--set" || a == "--scale") {
+        const std::string kv = str();
+        const auto eq = kv.find('=');
+        char* end = nullptr;
+        const double v = eq == std::string::npos ? 0 : std::strtod(kv.c_str() + eq + 1, &end);
+        if (eq == std::string::npos || eq == 0 || !end || *end || end == kv.c_str() + eq + 1 || !std::isfinite(v))
+          throw std::invalid_argument(a + " " + kv + ": accepted KEY=NUMBER (a config key such as mbd.fixed_cone.mass_kg)");
+        Term t;
+        t.kind = Term::Miscalibrated;
+        t.name = t.parameter = kv.substr(0, eq);
+        t.scale = a == "--scale";
+        if (concealed.count(t.name)) throw std::invalid_argument(a + ": " + t.name + " is given twice");
+        concealed_terms.push_back(t);
+        concealed[t.name] = v;
+      }
       else if (a == "-h" || a == "--help") { std::cout << usage; return 0; }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
@@ -104,8 +127,9 @@ int main(int argc, char** argv) {
     }
     Recording model;
     double drive_speed = 0;
+    const ConfigModel cfg_model(config);
     if (load == "bed") {
-      mbd::MechanismParams p = mbd::load_mechanism_params_file(config);
+      mbd::MechanismParams p = cfg_model.mechanism(concealed, concealed_terms);
       p = with_effect(p, effect, value);
       if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
       mbd::validate(p);
@@ -117,7 +141,7 @@ int main(int argc, char** argv) {
       model = from_fields(mbd::simulate(p, so), "model");
       drive_speed = p.drive_speed_rad_s;
     } else {
-      auto cfg = chamber::load_flow_run_config(config);
+      auto cfg = cfg_model.flow_run(concealed, concealed_terms);
       mbd::MechanismParams p = with_effect(cfg.mech, is_flow_effect(effect) ? "none" : effect, value);
       const chamber::FlowParams f = with_flow_effect(cfg.flow, effect, value);
       if (speed_rpm > 0) p = at_speed(p, speed_rpm * core::units::rpm);
