@@ -3,7 +3,8 @@
 every key validated (unknown, missing, out of range, duplicate keys refused by name), defaults filled in.
 The tool is $CRUSHER_CONFIG_TOOL (config_tool) when set, else `scripts/crusher config`.
 Usage as a module: config_yaml.load(path) -> dict (ValueError naming the key on a bad config). As a command:
-config_yaml.py CONFIG [KEY.PATH] prints the config as JSON, or one value (e.g. run.load; null when not set)."""
+config_yaml.py CONFIG [KEY.PATH ...] prints the config as JSON, or each key's value on its own line (e.g. run.load;
+null when not set), read once."""
 import json
 import os
 import subprocess
@@ -33,4 +34,8 @@ if __name__ == "__main__":
         c = load(sys.argv[1])
     except ValueError as e:
         sys.exit(str(e))
-    print(json.dumps(value(c, sys.argv[2]) if len(sys.argv) > 2 else c))
+    if len(sys.argv) > 2:
+        for key in sys.argv[2:]:
+            print(json.dumps(value(c, key)))
+    else:
+        print(json.dumps(c))

@@ -122,6 +122,52 @@ def error_line(log_path, rc):
 running = {}
 
 
+class MasterPool:
+    """One ROS master per local worker, kept for the whole sweep: a case's `crusher run` uses a free one
+    (CRUSHER_SHARED_MASTER=1) instead of starting its own (rosmaster takes 1-5 s to answer on a busy machine)."""
+
+    def __init__(self, n, log_dir):
+        import queue
+        import socket
+        import xmlrpc.client
+        self.procs, self.free = [], queue.Queue()
+        env = dict(os.environ, ROS_IP="127.0.0.1")
+        env.setdefault("ROS_LOG_DIR", log_dir)
+        env.pop("ROS_HOSTNAME", None)
+        for _ in range(n):
+            s = socket.socket()
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+            s.close()
+            self.procs.append(subprocess.Popen(["rosmaster", "--core", "-p", str(port)], stdout=subprocess.DEVNULL,
+                                               stderr=subprocess.DEVNULL, env=env, start_new_session=True))
+            uri = f"http://127.0.0.1:{port}/"
+            deadline = time.time() + 60
+            while True:
+                try:
+                    xmlrpc.client.ServerProxy(uri).getSystemState("/sweep")
+                    break
+                except OSError:
+                    if time.time() > deadline or self.procs[-1].poll() is not None:
+                        self.close()
+                        raise SweepError(f"a ROS master for the sweep's workers did not start on port {port}")
+                    time.sleep(0.05)
+            self.free.put(uri)
+
+    def close(self):
+        for p in self.procs:
+            if p.poll() is None:
+                p.terminate()
+        for p in self.procs:
+            try:
+                p.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                p.kill()
+
+
+masters = None  # MasterPool of the local backend
+
+
 def run_case(case_dir, opts, keep_bag):
     """One case as `crusher run` (the ROS environment is the caller's); writes status.json, returns it."""
     for f in ("summary.json", "status.json", "run.bag"):
@@ -133,13 +179,22 @@ def run_case(case_dir, opts, keep_bag):
     if opts["duration"]:
         cmd += ["--duration", repr(opts["duration"])]
     env = dict(os.environ, CRUSHER_NO_BUILD="1", CRUSHER_RUN_PLOTS="0")  # built once by the sweep; no plots per case
+    if not keep_bag:
+        env["CRUSHER_RUN_BAG"] = "0"  # its bags are deleted below: not joined first (seconds per case)
+    uri = masters.free.get() if masters else None
+    if uri:
+        env.update(ROS_MASTER_URI=uri, CRUSHER_SHARED_MASTER="1")
     t0 = time.time()
     log_path = os.path.join(case_dir, "run.log")
-    with open(log_path, "w") as log:
-        proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
-        running[case_dir] = proc
-        rc = proc.wait()
-        running.pop(case_dir, None)
+    try:
+        with open(log_path, "w") as log:
+            proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env, start_new_session=True)
+            running[case_dir] = proc
+            rc = proc.wait()
+            running.pop(case_dir, None)
+    finally:
+        if uri:
+            masters.free.put(uri)
     ok = rc == 0 and load_json(os.path.join(case_dir, "summary.json")) is not None
     status = "ok" if ok else ("interrupted" if rc in (-2, 130, -15, 143) else error_line(log_path, rc))
     if not keep_bag:
@@ -218,16 +273,23 @@ class Progress:
 
 def run_local(todo, a, on_done):
     from concurrent.futures import ThreadPoolExecutor, as_completed
+    global masters
     opts = options(a)
-    with ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        futures = {ex.submit(run_case, d, opts, a.bag): (name, d) for name, d in todo}
-        try:
-            for fut in as_completed(futures):
-                on_done(*futures[fut], fut.result())
-        except KeyboardInterrupt:
-            ex.shutdown(wait=False, cancel_futures=True)
-            stop_running()
-            raise
+    masters = MasterPool(min(a.jobs, len(todo)), os.path.join(os.path.abspath(a.out), "ros_log")) if todo else None
+    try:
+        with ThreadPoolExecutor(max_workers=a.jobs) as ex:
+            futures = {ex.submit(run_case, d, opts, a.bag): (name, d) for name, d in todo}
+            try:
+                for fut in as_completed(futures):
+                    on_done(*futures[fut], fut.result())
+            except KeyboardInterrupt:
+                ex.shutdown(wait=False, cancel_futures=True)
+                stop_running()
+                raise
+    finally:
+        if masters:
+            masters.close()
+            masters = None
 
 
 def main(argv):
