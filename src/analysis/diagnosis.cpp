@@ -274,45 +274,9 @@ void adopt_selection(DiagnosisResult& r, const Selection& sel, const DiagnosisOp
   r.candidates = sel.steps.empty() ? std::vector<TermFit>{} : sel.steps.front().fits;
   r.residual_significant = sel.before.significant;
   r.chosen = sel.steps.empty() ? -1 : sel.steps.front().chosen;
-  std::ostringstream why;
-  why.precision(3);
-  if (!sel.before.significant) {
-    r.effect = "none";
-    why << "the residual of the unchanged model, after the non-physical differences, is consistent with the "
-           "data's noise (chi-square test at "
-        << opt.z_significance << " sigma in every channel and data set)";
-    int best = -1;
-    for (std::size_t i = 0; i < r.candidates.size(); ++i)
-      if (best < 0 || r.candidates[i].bic < r.candidates[best].bic) best = static_cast<int>(i);
-    if (best >= 0) why << "; best candidate " << r.candidates[best].term.name << " changes BIC by "
-                       << r.candidates[best].delta_bic;
-  } else if (sel.named.empty()) {
-    r.effect = "unexplained";
-    if (sel.partial.empty()) {
-      why << "the residual is significant but no candidate lowers BIC by " << opt.bic_threshold
-          << " while removing part of the structured residual on training and held-out data";
-    } else {
-      why << "the residual is significant; the best terms (";
-      for (std::size_t i = 0; i < sel.partial.size(); ++i) why << (i ? ", " : "") << sel.partial[i].term.name;
-      why << ") together remove " << 100 * sel.explained_train << " % (training) and "
-          << 100 * sel.explained_heldout << " % (held out) of it, less than " << 100 * opt.min_explained << " %";
-    }
-  } else {
-    r.effect = effect_label(sel.named);
-    for (std::size_t k = 0; k < sel.steps.size(); ++k) {
-      const auto& st = sel.steps[k];
-      if (st.chosen < 0) {
-        why << "; then " << st.why;
-        continue;
-      }
-      const auto& c = st.fits[st.chosen];
-      why << (k ? "; then " : "") << c.term.name << " lowers BIC by " << -c.delta_bic << " and removes "
-          << 100 * c.explained_train << " % (training) and " << 100 * c.explained_heldout
-          << " % (held out) of the structured residual (" << st.why << ")";
-    }
-    if (sel.after.significant) why << "; a significant residual remains";
-  }
-  r.reason = why.str();
+  const Verdict v = selection_verdict(sel, opt.z_significance, opt.bic_threshold, opt.min_explained);
+  r.effect = v.effect;
+  r.reason = v.reason;
 }
 
 }  // namespace analysis

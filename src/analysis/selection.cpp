@@ -186,4 +186,49 @@ std::string effect_label(const std::vector<TermFit>& named) {
   return out.empty() ? "none" : out;
 }
 
+Verdict selection_verdict(const Selection& sel, double z_significance, double bic_threshold, double min_explained) {
+  Verdict v;
+  const std::vector<TermFit> none;
+  const auto& first = sel.steps.empty() ? none : sel.steps.front().fits;
+  std::ostringstream why;
+  why.precision(3);
+  if (!sel.before.significant) {
+    v.effect = "none";
+    why << "the residual of the unchanged model, after the non-physical differences, is consistent with the "
+           "data's noise (chi-square test at "
+        << z_significance << " sigma in every channel and data set)";
+    int best = -1;
+    for (std::size_t i = 0; i < first.size(); ++i)
+      if (best < 0 || first[i].bic < first[best].bic) best = static_cast<int>(i);
+    if (best >= 0) why << "; best candidate " << first[best].term.name << " changes BIC by " << first[best].delta_bic;
+  } else if (sel.named.empty()) {
+    v.effect = "unexplained";
+    if (sel.partial.empty()) {
+      why << "the residual is significant but no candidate lowers BIC by " << bic_threshold
+          << " while removing part of the structured residual on training and held-out data";
+    } else {
+      why << "the residual is significant; the best terms (";
+      for (std::size_t i = 0; i < sel.partial.size(); ++i) why << (i ? ", " : "") << sel.partial[i].term.name;
+      why << ") together remove " << 100 * sel.explained_train << " % (training) and "
+          << 100 * sel.explained_heldout << " % (held out) of it, less than " << 100 * min_explained << " %";
+    }
+  } else {
+    v.effect = effect_label(sel.named);
+    for (std::size_t k = 0; k < sel.steps.size(); ++k) {
+      const auto& st = sel.steps[k];
+      if (st.chosen < 0) {
+        why << "; then " << st.why;
+        continue;
+      }
+      const auto& c = st.fits[st.chosen];
+      why << (k ? "; then " : "") << c.term.name << " lowers BIC by " << -c.delta_bic << " and removes "
+          << 100 * c.explained_train << " % (training) and " << 100 * c.explained_heldout
+          << " % (held out) of the structured residual (" << st.why << ")";
+    }
+    if (sel.after.significant) why << "; a significant residual remains";
+  }
+  v.reason = why.str();
+  return v;
+}
+
 }  // namespace analysis

@@ -81,4 +81,11 @@ Selection forward_select(Objective& obj, const std::vector<Term>& terms, const S
 // joined by " + " (e.g. "miscalibrated", "joint_friction + motor_droop").
 std::string effect_label(const std::vector<TermFit>& named);
 
+// The selection's verdict in words: effect "none" (residual within noise), "unexplained" (no term, or the terms
+// together fall short of min_explained) or effect_label of the named terms; reason says why, step by step.
+struct Verdict {
+  std::string effect, reason;
+};
+Verdict selection_verdict(const Selection& sel, double z_significance, double bic_threshold, double min_explained);
+
 }  // namespace analysis

@@ -150,15 +150,9 @@ SummaryDiagnosis diagnose_summary(const SummaryRecording& data, const SummaryMod
   const Selection sel = forward_select(obj, candidates, so);
   d.selection = sel;
   d.after = obj.compare(sel.fitted);
-  DiagnosisResult tmp;
-  DiagnosisOptions dopt;
-  dopt.z_significance = opt.z_significance;
-  dopt.bic_threshold = so.bic_threshold;
-  dopt.min_explained = so.min_explained;
-  dopt.min_step_explained = so.min_step_explained;
-  adopt_selection(tmp, sel, dopt);
-  d.effect = tmp.effect;
-  d.reason = tmp.reason;
+  const Verdict v = selection_verdict(sel, opt.z_significance, so.bic_threshold, so.min_explained);
+  d.effect = v.effect;
+  d.reason = v.reason;
   d.model_runs = obj.runs;
   d.model_failures = obj.failures;
   d.last_model_failure = obj.last_failure;
