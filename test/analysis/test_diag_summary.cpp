@@ -104,3 +104,20 @@ TEST(SummaryDiagnosis, TheModelsOwnFiguresClaimNothing) {
   EXPECT_EQ(d.effect, "none") << d.reason;
   EXPECT_TRUE(d.selection.named.empty());
 }
+
+// A chamber effect from the summaries alone: worn liners (20 mm at the discharge)
+// among the mechanism's friction, the drive's static moment and the chamber's other module. (The discharge radius,
+// concave_r_mm[1], is left out: a worn concave and a wider discharge are nearly one change to these four figures.)
+TEST(SummaryDiagnosis, NamesConcealedWornLiners) {
+  FlowCase c;
+  c.terms.clear();
+  for (const auto& e : summary_candidates())
+    if (e.name == "joint_friction" || e.name == "worn_liners" || e.name == "bearing_friction") c.terms.push_back(e);
+  for (const auto& u : c.cfg.uncertain())
+    if (u.name == "mbd.vibrator.static_moment_kg_m") c.terms.push_back(u);
+  c.model = make_flow_summary_model(c.cfg, c.terms, 3.0, 3.0);
+  const double wear = 20.0;
+  const SummaryDiagnosis d = diagnose_summary(c.plant({{"worn_liners", wear}}), c.model, c.terms);
+  ASSERT_EQ(d.effect, "worn_liners") << d.reason << "\n" << summary_diagnosis_markdown(d);
+  EXPECT_NEAR(d.selection.fitted.at("worn_liners"), wear, 0.15 * wear);
+}
