@@ -39,7 +39,8 @@ struct BpmModel {
   BondSettings bond;
 };
 
-// The keys of bpm.bond and bpm.packing (core/config_schema.hpp); bpm.metaparticles is SizeDistribution's.
+// The keys of bpm.bond and bpm.packing (core/config_schema.hpp); bpm.metaparticles: metaparticles_schema()
+// (size_distribution.hpp).
 const core::Schema<BondSettings>& bond_schema();
 const core::Schema<PackingOptions>& packing_schema();
 BondSettings bond_settings_from_config(const core::ConfigNode& bond);

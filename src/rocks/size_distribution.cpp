@@ -53,20 +53,52 @@ std::vector<std::string> SizeDistribution::preset_names() {
   return {"paper_bimodal", "crusher_coarse", "crusher_coarse3", "mono3"};
 }
 
+const core::Schema<MetaparticleKeys>& metaparticles_schema() {
+  using K = MetaparticleKeys;
+  static const core::Schema<K> s = [] {
+    constexpr double mm = 1e-3;
+    auto modes = [](const K& k) { return k.preset.empty(); };
+    auto two = [](const K& k) { return k.preset.empty() && k.fine_mean_radius >= 0; };
+    core::Schema<K> k;
+    k.choice("preset", SizeDistribution::preset_names(), [](K& o) -> std::string& { return o.preset; },
+             "a named distribution (src/rocks/README.md); else the modes below")
+        .number("truncate_sd", "sd", 1, 0.5, 5.0, [](K& o) -> double& { return o.truncate_sd; },
+                "each mode cut at this many standard deviations")
+        .applies_if(modes, "modes (no preset)", "no preset")
+        .number("coarse.mean_radius_mm", "mm", mm, 0.05, 100.0, [](K& o) -> double& { return o.coarse_mean_radius; },
+                "mean radius of the (coarse) mode", true)
+        .applies_if(modes, "modes (no preset)", "no preset")
+        .number("coarse.sd_mm", "mm", mm, 0.0, 50.0, [](K& o) -> double& { return o.coarse_sd; },
+                "its standard deviation", true)
+        .applies_if(modes, "modes (no preset)", "no preset")
+        .number("fine.mean_radius_mm", "mm", mm, 0.05, 100.0, [](K& o) -> double& { return o.fine_mean_radius; },
+                "mean radius of the fine mode (unset: one mode)")
+        .applies_if(modes, "modes (no preset)", "no preset")
+        .number("fine.sd_mm", "mm", mm, 0.0, 50.0, [](K& o) -> double& { return o.fine_sd; },
+                "its standard deviation", true)
+        .applies_if(two, "two modes (fine.mean_radius_mm given)", "fine.mean_radius_mm is given")
+        .number("coarse_volume_fraction", "", 1, 0.01, 0.99, [](K& o) -> double& { return o.coarse_volume_fraction; },
+                "share of the solid volume in the coarse mode", true)
+        .applies_if(two, "two modes (fine.mean_radius_mm given)", "fine.mean_radius_mm is given");
+    return k;
+  }();
+  return s;
+}
+
+MetaparticleKeys metaparticle_keys_from_config(const core::ConfigNode& node) {
+  MetaparticleKeys k;
+  metaparticles_schema().read(node, k);
+  return k;
+}
+
 SizeDistribution SizeDistribution::from_config(const core::ConfigNode& node) {
-  if (node.has("preset")) {
-    const std::string p = node.choice("preset", preset_names());
-    return preset(p);
-  }
-  const double trunc = node.number_or("truncate_sd", 2.0, 0.5, 5.0, "sd");
-  auto mode = [&](const core::ConfigNode& m, double frac) {
-    return SizeMode{m.number("mean_radius_mm", 0.05, 100.0, "mm", mm), m.number("sd_mm", 0.0, 50.0, "mm", mm),
-                    frac};
-  };
+  const MetaparticleKeys k = metaparticle_keys_from_config(node);
+  if (!k.preset.empty()) return preset(k.preset);
   try {
-    if (!node.has("fine")) return SizeDistribution({mode(node.child("coarse"), 1.0)}, trunc);
-    const double fc = node.number("coarse_volume_fraction", 0.01, 0.99, "");
-    return SizeDistribution({mode(node.child("coarse"), fc), mode(node.child("fine"), 1.0 - fc)}, trunc);
+    if (k.fine_mean_radius < 0) return SizeDistribution({{k.coarse_mean_radius, k.coarse_sd, 1.0}}, k.truncate_sd);
+    return SizeDistribution({{k.coarse_mean_radius, k.coarse_sd, k.coarse_volume_fraction},
+                             {k.fine_mean_radius, k.fine_sd, 1.0 - k.coarse_volume_fraction}},
+                            k.truncate_sd);
   } catch (const std::invalid_argument& e) {
     throw core::ConfigError("config " + node.file() + ": '" + node.path() + "': " + e.what());
   }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/config.hpp"
+#include "core/config_schema.hpp"
 #include "rocks/rng.hpp"
 
 namespace rocks {
@@ -15,6 +16,17 @@ struct SizeMode {
   double sd = 0.0;               // m
   double volume_fraction = 1.0;  // share of the solid volume carried by this mode
 };
+
+// The keys of bpm.metaparticles as read (core/config_schema.hpp): a preset, or one or two modes. Lengths in m;
+// negative: not given.
+struct MetaparticleKeys {
+  std::string preset;
+  double truncate_sd = 2.0;
+  double coarse_mean_radius = -1, coarse_sd = -1, fine_mean_radius = -1, fine_sd = -1;
+  double coarse_volume_fraction = -1;
+};
+const core::Schema<MetaparticleKeys>& metaparticles_schema();
+MetaparticleKeys metaparticle_keys_from_config(const core::ConfigNode& node);
 
 class SizeDistribution {
  public:

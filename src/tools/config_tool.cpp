@@ -17,7 +17,7 @@
 namespace {
 
 void usage(std::ostream& o) {
-  o << "usage: config_tool --keys [SECTION]   key reference (sections: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond)\n"
+  o << "usage: config_tool --keys [SECTION]   key reference (sections: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond, bpm.metaparticles)\n"
        "       config_tool --json CONFIG      the resolved, validated run config as JSON\n";
 }
 
@@ -31,6 +31,7 @@ bool keys(const std::string& only) {
       {"dem", coupling::chamber_schema().keys()},
       {"bpm.packing", rocks::packing_schema().keys()},
       {"bpm.bond", rocks::bond_schema().keys()},
+      {"bpm.metaparticles", rocks::metaparticles_schema().keys()},
   };
   bool any = false;
   for (const auto& [name, k] : sections) {
@@ -134,7 +135,7 @@ int main(int argc, char** argv) {
   if (a == "--keys" && argc <= 3) {
     const std::string only = argc == 3 ? argv[2] : "";
     if (keys(only)) return 0;
-    std::cerr << "config: no schema section '" << only << "' (accepted: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond)\n";
+    std::cerr << "config: no schema section '" << only << "' (accepted: run, mbd, coupling, flow, flow_material, dem, bpm.packing, bpm.bond, bpm.metaparticles)\n";
     return 2;
   }
   if (a == "--json" && argc == 3) {

@@ -74,7 +74,9 @@ std::vector<Section> sections() {
                                          [](const ConfigNode& n) { return chamber::flow_material_from_config(n); }),
           // bpm.bond and bpm.packing as top-level keys of that name (the test only needs the key path).
           section<rocks::BondSettings>("bpm.bond", rocks::bond_schema(), rocks::bond_settings_from_config),
-          section<rocks::PackingOptions>("bpm.packing", rocks::packing_schema(), rocks::packing_from_config)};
+          section<rocks::PackingOptions>("bpm.packing", rocks::packing_schema(), rocks::packing_from_config),
+          section<rocks::MetaparticleKeys>("bpm.metaparticles", rocks::metaparticles_schema(),
+                                           rocks::metaparticle_keys_from_config)};
 }
 
 // A valid document holding only `name`: the section of a shipped config as the schema writes it (flow_material: the
@@ -330,4 +332,33 @@ TEST(ConfigSchema, Inherited600RpmConfigEqualsTheFullOne) {
     a.ignore("diagnosis"), b.ignore("diagnosis");  // crusher diagnose's, not a loader's section
     EXPECT_EQ(dump(s.load_write(a)), dump(s.load_write(b))) << s.name;
   }
+}
+
+// bpm.metaparticles: a preset, or explicit modes read through the schema. The paper's bimodal distribution written
+// as modes equals its preset; a mode key out of range, a second mode without its volume share, and modes beside a
+// preset are refused by name.
+TEST(ConfigSchema, MetaparticleModesOrAPreset) {
+  auto load = [](const std::string& yaml) {
+    return rocks::SizeDistribution::from_config(load_text("m: " + yaml).child("m"));
+  };
+  const auto modes = load("{coarse: {mean_radius_mm: 3, sd_mm: 0.525}, fine: {mean_radius_mm: 1, sd_mm: 0.225}, "
+                          "coarse_volume_fraction: 0.7}");
+  const auto preset = rocks::SizeDistribution::preset("paper_bimodal");
+  ASSERT_EQ(modes.modes().size(), preset.modes().size());
+  for (std::size_t i = 0; i < modes.modes().size(); ++i) {
+    EXPECT_DOUBLE_EQ(modes.modes()[i].mean_radius, preset.modes()[i].mean_radius);
+    EXPECT_DOUBLE_EQ(modes.modes()[i].sd, preset.modes()[i].sd);
+    EXPECT_DOUBLE_EQ(modes.modes()[i].volume_fraction, preset.modes()[i].volume_fraction);
+  }
+  EXPECT_DOUBLE_EQ(modes.truncate_sd(), preset.truncate_sd());
+  EXPECT_EQ(load("{coarse: {mean_radius_mm: 2, sd_mm: 0.1}}").modes().size(), 1u);
+  auto msg = message_of([&] { load("{coarse: {mean_radius_mm: 2, sd_mm: 60}}"); });
+  EXPECT_NE(msg.find("'m.coarse.sd_mm'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("[0, 50] mm"), std::string::npos) << msg;
+  msg = message_of([&] { load("{coarse: {mean_radius_mm: 2, sd_mm: 0.1}, fine: {mean_radius_mm: 1, sd_mm: 0.1}}"); });
+  EXPECT_NE(msg.find("'m.coarse_volume_fraction': missing (required)"), std::string::npos) << msg;
+  msg = message_of([&] { load("{preset: mono3, coarse: {mean_radius_mm: 2, sd_mm: 0.1}}"); });
+  EXPECT_NE(msg.find("'m.coarse.mean_radius_mm': applies to modes (no preset)"), std::string::npos) << msg;
+  msg = message_of([&] { load("{}"); });
+  EXPECT_NE(msg.find("'m.coarse': missing (required)"), std::string::npos) << msg;
 }
