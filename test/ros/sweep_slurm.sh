@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `crusher sweep --backend slurm` end to end on a single-node Slurm started here (munged, slurmctld and slurmd with a
 # generated slurm.conf in a scratch folder, free ports): a 2-case sweep goes through one job array and its
-# sweep.csv equals the local backend's (every column but the wall time). Skipped (exit 77) only when Slurm cannot be
+# sweep.csv equals the local backend's (every column but the wall time); Ctrl-C while the array runs cancels it
+# (scancel: no task left in the queue, no node process left), exits 130 and leaves sweep.csv readable. Skipped (exit 77) only when Slurm cannot be
 # started as a non-root user; as root a Slurm that does not start fails the test.
 source "$(dirname "$0")/ros_env.bash"
 crusher="$src/scripts/crusher"
@@ -87,4 +88,37 @@ for ra, rb in zip(a, b):
     assert ra == rb, (ra, rb)
 print("the slurm sweep's rows equal the local sweep's")
 PY
+
+# Ctrl-C while the array runs: the array is cancelled, nothing of it keeps running, sweep.csv stays readable.
+printf 'base: %s\nrun: {duration_s: 1200.0, settle_s: 1.5}\n' "$src/launch_free_configs/gyp1200_400rpm.yaml" >"$out/long.yaml"
+set -m  # the sweep in a process group of its own, as in a terminal (SIGINT not ignored as in a background job)
+CRUSHER_NO_BUILD=1 CRUSHER_SWEEP_POLL_S=0.5 bash "$crusher" sweep "$out/long.yaml" --vary mbd.drive.speed_rpm=400,500 \
+  --no-plots --backend slurm --partition crusher --time 10:00 --cpus-per-case 1 --out "$out/cancelled" >"$out/cancel.log" 2>&1 &
+sweep_pid=$!
+set +m
+pids+=("$sweep_pid")
+for _ in $(seq 1 120); do
+  grep -q "slurm job array" "$out/cancel.log" && [[ -n $(squeue -h -t R 2>/dev/null) ]] && break
+  sleep 0.5
+done
+[[ -n $(squeue -h -t R) ]] || { cat "$out/cancel.log"; fail "the long array never ran"; }
+sleep 2
+kill -INT -- -"$sweep_pid"
+for _ in $(seq 1 60); do kill -0 "$sweep_pid" 2>/dev/null || break; sleep 0.5; done
+if kill -0 "$sweep_pid" 2>/dev/null; then
+  kill -KILL -- -"$sweep_pid"; scancel --user="$user" 2>/dev/null
+  cat "$out/cancel.log"; fail "the slurm sweep did not stop within 30 s of Ctrl-C"
+fi
+rc=0
+wait "$sweep_pid" || rc=$?
+cat "$out/cancel.log"
+((rc == 130)) || fail "Ctrl-C on the slurm sweep exited $rc, not 130"
+grep -q "cancelled slurm job" "$out/cancel.log" || fail "the array was not cancelled"
+for _ in $(seq 1 40); do [[ -z $(squeue -h 2>/dev/null) ]] && break; sleep 0.5; done
+[[ -z $(squeue -h) ]] || { left=$(squeue -h); scancel --user="$user"; fail "tasks left in the queue after Ctrl-C: $left"; }
+for _ in $(seq 1 40); do pgrep -f "$out/cancelled/cases" >/dev/null || break; sleep 0.5; done
+! pgrep -af "$out/cancelled/cases" || fail "processes of the cancelled cases still run"
+/usr/bin/python3 -c "import csv,sys; r=list(csv.DictReader(open(sys.argv[1]))); assert len(r) == 2, r" "$out/cancelled/sweep.csv" ||
+  fail "sweep.csv is not readable after Ctrl-C"
+echo "Ctrl-C cancelled the slurm array (exit 130), sweep.csv readable"
 echo "slurm sweep check passed"
