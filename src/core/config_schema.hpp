@@ -199,6 +199,12 @@ class Schema {
 
   // Reads every key given in `section` into `out` (keys not given keep out's values; a required one missing
   // fails by name). The caller runs finish() on the root for unknown keys.
+  // A T with its member defaults, the section's keys read into it.
+  T read(const ConfigNode& section) const {
+    T out;
+    read(section, out);
+    return out;
+  }
   void read(const ConfigNode& section, T& out) const {
     std::map<std::string, ConfigNode> maps{{"", section}};
     for (int pass = 0; pass < 2; ++pass)  // keys with a scale that depends on others last

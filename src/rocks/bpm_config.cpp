@@ -58,17 +58,9 @@ const core::Schema<PackingOptions>& packing_schema() {
   return s;
 }
 
-BondSettings bond_settings_from_config(const core::ConfigNode& b) {
-  BondSettings s;
-  bond_schema().read(b, s);
-  return s;
-}
+BondSettings bond_settings_from_config(const core::ConfigNode& b) { return bond_schema().read(b); }
 
-PackingOptions packing_from_config(const core::ConfigNode& p) {
-  PackingOptions o;
-  packing_schema().read(p, o);
-  return o;
-}
+PackingOptions packing_from_config(const core::ConfigNode& p) { return packing_schema().read(p); }
 
 BpmModel bpm_model_from_config(const core::ConfigNode& b) {
   BpmModel m;

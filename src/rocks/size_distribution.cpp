@@ -85,11 +85,7 @@ const core::Schema<MetaparticleKeys>& metaparticles_schema() {
   return s;
 }
 
-MetaparticleKeys metaparticle_keys_from_config(const core::ConfigNode& node) {
-  MetaparticleKeys k;
-  metaparticles_schema().read(node, k);
-  return k;
-}
+MetaparticleKeys metaparticle_keys_from_config(const core::ConfigNode& node) { return metaparticles_schema().read(node); }
 
 SizeDistribution SizeDistribution::from_config(const core::ConfigNode& node) {
   const MetaparticleKeys k = metaparticle_keys_from_config(node);
