@@ -1,6 +1,7 @@
 #include "coupling/chamber_dem.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -185,17 +186,27 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
   const long n = std::max(1L, static_cast<long>(std::ceil(duration / dt_max_ - 1e-9)));
   const double h = duration / n;
   if (std::abs(h - world_->dt()) > 1e-15 * h) world_->set_dt(h);
+  using clk = std::chrono::steady_clock;
+  auto t1 = clk::now();
+  auto lap = [this, &t1](int k) {  // phase_seconds()
+    const auto now = clk::now();
+    phase_s_[k] += std::chrono::duration<double>(now - t1).count();
+    t1 = now;
+  };
   if (p_.feed.prefill && !prefilled_) {  // at the liners' first pose
     set_liners(m, c, 0.0);
     prefill();
     prefilled_ = true;
+    lap(5);
   }
   BodyWrench wm, wc;
   for (long k = 0; k < n; ++k) {
     const double tau = (k + 1) * h;  // positions at the end of the drift of this step
     set_liners(m, c, tau);
+    lap(1);
     world_->step(1);
     if (!growing_.empty()) grow_fragments(h);
+    lap(0);
     for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
       deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
     const Eigen::Vector3d com_m = m.com + m.velocity * tau, com_c = c.com + c.velocity * tau;
@@ -209,6 +220,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
       wc.force += b.force * h;
       wc.torque += b.torque * h;
     }
+    lap(1);
     if (fines_) {
       const auto f = fines_->step(isometry(mantle_->mesh().pose()), isometry(concave_->mesh().pose()), com_m, com_c,
                                   h, gravity_);
@@ -217,14 +229,18 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
       wc.force += f.f_concave * h;
       wc.torque += f.t_concave * h;
       fines_force_ = f.normal_force;
+      lap(2);
     }
     force_avg_.add(concave_->region_normal_force(), h);
     force_window_s_ += h;
+    lap(1);
     if (p_.crushing.enabled) crush_squeezed(k + 1 == n);
+    lap(3);
     if (world_->time() >= next_bookkeeping_ - 1e-12) {
       bookkeeping();
       next_bookkeeping_ = world_->time() + p_.bookkeeping_s;
     }
+    lap(4);
   }
   for (auto* w : {&wm, &wc}) {
     w->force /= duration;

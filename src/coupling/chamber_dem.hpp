@@ -9,6 +9,7 @@
 // extrapolated every DEM step), and the wrench on each liner is averaged over the interval.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -99,6 +100,10 @@ class ChamberDem {
   // may be smaller by sqrt(its density / the rock's), a growing one must reach it when grown, else it leaves as fines.
   double fragment_min_radius() const { return fragment_min_radius_; }
   std::size_t growing_fragments() const { return growing_.size(); }  // still denser than rock (fragment_growth_s)
+  // Wall-clock seconds inside advance() since construction (not checkpointed), for the benchmark: 0 the DEM
+  // world's steps (World::phase_seconds splits them), 1 liner poses and wrenches, 2 the fines' flow model,
+  // 3 crushing (crush_squeezed: criterion, fragments, removal), 4 bookkeeping (discharge, feed, tracks), 5 prefill.
+  const std::array<double, 6>& phase_seconds() const { return phase_s_; }
   // Adds one rock of the feed (shape index) at a world position with a velocity, unrotated; counted as fed.
   void add_rock_at(int shape, const Eigen::Vector3d& centre, const Eigen::Vector3d& velocity);
 
@@ -166,6 +171,7 @@ class ChamberDem {
   chamber::SizeClassMap to_flow_, from_flow_;     // dem.sieves_mm classes <-> the flow model's
   double fines_force_ = 0, gravity_ = 0;  // N, m/s^2
   rocks::Rng rng_;  // reproducible feed positions, shapes and orientations
+  std::array<double, 6> phase_s_{};  // phase_seconds()
 };
 
 }  // namespace coupling

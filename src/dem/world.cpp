@@ -1201,6 +1201,16 @@ std::size_t World::n_contacts() const {
   return c;
 }
 
+std::size_t World::n_wall_contacts() const {
+  std::size_t c = 0;
+  for (const PlanarWall& w : walls_)
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      const double dist = (p_.x[i] - w.p[0]) * w.n[0] + (p_.y[i] - w.p[1]) * w.n[1] + (p_.z[i] - w.p[2]) * w.n[2];
+      if (dist < p_.r[i]) ++c;
+    }
+  return c;
+}
+
 double World::bytes_per_particle() const {
   const double n = std::max<std::size_t>(p_.size(), 1);
   double b = 19.0 * 8 * p_.x.capacity() + 8.0 * p_.id.capacity() + 4.0 * p_.material.capacity();

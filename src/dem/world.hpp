@@ -121,7 +121,8 @@ class World {
 
   // ---- observables
   double kinetic_energy() const;  // translational + rotational (J)
-  std::size_t n_contacts() const;  // touching particle pairs at the last step
+  std::size_t n_contacts() const;  // touching particle pairs at the current positions
+  std::size_t n_wall_contacts() const;  // (particle, planar wall) pairs touching at the current positions
   // Per particle, the sum over its particle contacts and intact bonds of sym(a (x) f) (a: centre to contact point,
   // taken at the sphere's radius, so that a diametral load F gives -2 r F n n; f: force on the particle), 6 entries
   // xx yy zz xy yz zx per particle (N m); / volume it is the particle's mean stress (Love-Weber). Contacts at the

@@ -1,15 +1,29 @@
-// DEM benchmark: the two peer cases of ../shared/peers/ with the same physics, timed in this engine.
-//   granular_fcc: LIGGGHTS case, 49,572 touching 3 mm spheres (fcc, lattice 4.24264 mm) in a 60x60x300 mm box
-//                 with 5 planar walls, Hertz-Mindlin + history + CDT rolling friction, E 1.3716 GPa, nu 0.35,
-//                 e 0.15, mu 0.5, mu_r 0.001, rho 2600, dt 1e-6 s, gravity; 1000 warm-up + 5000 timed steps.
-//   bonded_hex:   Yade case, 1.5 mm spheres in Yade's regularHexa packing of a 50 mm cube, every pair within
-//                 1.2 x (r_i + r_j) bonded (Yade's interactionDetectionFactor 1.2), strengths 25 / 9 MPa,
-//                 bond stiffness matched to Yade's CohFrictPhys (k_n = E R, k_s = nu k_n over A = pi R^2),
-//                 floor plane, gravity, dt 1e-7 s; 200 warm-up + 2000 timed steps.
-// Usage: dem_bench [--case granular_fcc|bonded_hex|all] [--steps S] [--threads T] [--warmup W]
-// (--warmup overrides the peers' warm-up step counts, for profiling only)
+// DEM benchmark: the peer cases of ../shared/peers/ with the same physics (dem/bench_cases.hpp), timed in this
+// engine, and the full machine's chamber in a crushing state timed over whole coupling steps.
+//   granular_fcc:     LIGGGHTS case, 49,572 touching 3 mm spheres (fcc, lattice 4.24264 mm) in a 60x60x300 mm box
+//                     with 5 planar walls, Hertz-Mindlin + history + CDT rolling friction, E 1.3716 GPa, nu 0.35,
+//                     e 0.15, mu 0.5, mu_r 0.001, rho 2600, dt 1e-6 s, gravity; 1000 warm-up + 5000 timed steps.
+//                     Its spheres do not press each other: it has no contact while timed (the line says so).
+//   granular_pressed: LIGGGHTS case, the same block on the lattice 4.22991208 mm (9 um overlaps), 49,936 spheres
+//                     held by six planes overlapping the outer ones by 9 um: 283,556 pair contacts at step 0; same
+//                     materials, dt, warm-up and timed steps.
+//   bonded_hex:       Yade case, 1.5 mm spheres in Yade's regularHexa packing of a 50 mm cube, every pair within
+//                     1.2 x (r_i + r_j) bonded (Yade's interactionDetectionFactor 1.2), strengths 25 / 9 MPa,
+//                     bond stiffness matched to Yade's CohFrictPhys (k_n = E R, k_s = nu k_n over A = pi R^2),
+//                     floor plane, gravity, dt 1e-7 s; 200 warm-up + 2000 timed steps.
+//   crusher:          the coupled run's DEM chamber (coupling::ChamberDem) of --config (default in `crusher bench`:
+//                     gyp1200_400rpm.yaml), pre-filled as the coupled run starts, the mantle held at the crushing
+//                     state's nutation (--nutation-deg, 0.73: src/mbd/README.md) and gyrating at the drive speed;
+//                     --warmup (1) + --steps (2) whole coupling steps; then the cost model (dem/cost_model.hpp).
+//                     --from-run DIR: instead of the pre-fill, the newest DEM checkpoint of a coupled run of that
+//                     config (`crusher run CONFIG --load dem --out DIR`), the mantle gyrating on from its pose there
+//                     (its nutation unless --nutation-deg is given), the concave held where it was.
+// Usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] [--threads T]
+//                  [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D]
+// (all: the three peer cases; --warmup overrides the peers' warm-up step counts, for profiling only)
 #include <omp.h>
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -19,31 +33,37 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/config.hpp"
+#include "core/run_config.hpp"
+#include "coupling/chamber_dem.hpp"
+#include "coupling/checkpoint_files.hpp"
+#include "dem/bench_cases.hpp"
+#include "dem/cost_model.hpp"
 #include "dem/world.hpp"
+#include "mbd/mechanism_params.hpp"
 
 namespace {
 
-dem::MaterialTable peer_rock() {
-  dem::MaterialTable t;
-  dem::Material rock{"rock", 2600.0, 1.3716e9 / (2 * 1.35), 0.35};
-  t.add(rock);
-  t.set_pair(0, 0, 0.5, 0.15, 0.001);
-  return t;
-}
-
+// The case line (stdout, read by `crusher bench --peers`): rate, touching pairs at the end of the timed steps and
+// contacts per particle 2 C / N (each contact counted at both its spheres, as LIGGGHTS' contact/atom), and
+// planar-wall contacts.
 void report(const char* name, const dem::World& w, long steps, double wall) {
   const double n = static_cast<double>(w.particles().size());
+  const std::size_t nc = w.n_contacts(), nwc = w.n_wall_contacts();
   std::printf(
-      "case %s particles %zu steps %ld threads %d wall_s %.3f particle_steps_per_s %.4g bytes_per_particle %.0f "
-      "bytes_per_bond %.0f\n",
-      name, w.particles().size(), steps, w.threads(), wall, n * steps / wall, w.bytes_per_particle(),
-      w.bytes_per_bond());
+      "case %s particles %zu steps %ld threads %d wall_s %.3f particle_steps_per_s %.4g contacts %zu "
+      "contacts_per_particle %.2f wall_contacts %zu bytes_per_particle %.0f bytes_per_bond %.0f\n",
+      name, w.particles().size(), steps, w.threads(), wall, n * steps / wall, nc, 2.0 * nc / std::max(n, 1.0), nwc,
+      w.bytes_per_particle(), w.bytes_per_bond());
   std::fflush(stdout);
   const auto& ph = w.phase_seconds();
   std::fprintf(stderr,
                "%s phases (s, warm-up included): drift %.3f rebuild %.3f (%ld) pairs %.3f bonds %.3f gather %.3f "
                "interactions %.3f kick %.3f; %zu neighbour pairs, %zu contacts\n",
-               name, ph[0], ph[1], w.n_rebuilds(), ph[2], ph[3], ph[4], ph[5], ph[6], w.n_pairs(), w.n_contacts());
+               name, ph[0], ph[1], w.n_rebuilds(), ph[2], ph[3], ph[4], ph[5], ph[6], w.n_pairs(), nc);
+  if (nc == 0 && w.n_bonds_intact() == 0)
+    std::fprintf(stderr, "%s: no particle contact at the end of the timed steps: it timed the neighbour search and "
+                         "the pair distance test, not a contact law\n", name);
 }
 
 double cpu_seconds() {
@@ -65,68 +85,29 @@ double timed(dem::World& w, long steps) {
   return wall;
 }
 
-// The peers' physics: rock of ../shared/peers, gravity, the given step and thread count.
-dem::WorldParams peer_params(double dt, int threads) {
-  dem::WorldParams wp;
-  wp.dt = dt;
-  wp.threads = threads;
-  wp.gravity = {{0, 0, -9.81}};
-  wp.materials = peer_rock();
-  return wp;
-}
-
 void granular_fcc(long steps, int threads, long warmup) {
-  dem::WorldParams wp = peer_params(1e-6, threads);
+  dem::WorldParams wp = dem::bench::peer_params(1e-6, threads);
   wp.skin = 0.3e-3;
   dem::World w(wp);
-  const double lo[3] = {0, 0, 0}, hi[3] = {0.06, 0.06, 0.30};
-  w.add_box(lo, hi, 0, false);  // zplane 0, x and y planes at 0 and 0.06
-  // LIGGGHTS 'lattice fcc 0.00424264' + 'create_atoms' in the block [2, 58] x [2, 58] x [2, 290] mm:
-  // points k * a/2 with k_x + k_y + k_z even
-  const double h = 0.5 * 0.00424264;
-  w.particles().reserve(50000);
-  for (int kz = 0; kz * h < 0.29; ++kz)
-    for (int ky = 0; ky * h < 0.058; ++ky)
-      for (int kx = 0; kx * h < 0.058; ++kx) {
-        if ((kx + ky + kz) % 2) continue;
-        const double x[3] = {kx * h, ky * h, kz * h};
-        if (x[0] < 0.002 || x[1] < 0.002 || x[2] < 0.002) continue;
-        w.add_particle(x, 0.0015, 0);
-      }
+  dem::bench::build_granular_fcc(w);
   w.step(warmup >= 0 ? warmup : 1000);  // warm-up, as the peer's first 'run 1000'
   const double wall = timed(w, steps);
   report("granular_fcc", w, steps, wall);
 }
 
+void granular_pressed(long steps, int threads, long warmup) {
+  dem::WorldParams wp = dem::bench::peer_params(1e-6, threads);
+  wp.skin = 0.3e-3;  // < a - 2r = 1.23 mm: only the 12 nearest neighbours are listed (the peer's bin skin is 1 mm)
+  dem::World w(wp);
+  dem::bench::build_granular_pressed(w);
+  w.step(warmup >= 0 ? warmup : 1000);
+  const double wall = timed(w, steps);
+  report("granular_pressed", w, steps, wall);
+}
+
 void bonded_hex(long steps, int threads, long warmup) {
-  dem::World w(peer_params(1e-7, threads));
-  const double r = 0.0015, a = 2 * r, hy = a * std::sqrt(3.0) / 2, hz = a * std::sqrt(6.0) / 3;
-  const double mn[3] = {0, 0, 0.0015}, mx[3] = {0.05, 0.05, 0.05};
-  // Yade pack.regularHexa(inAlignedBox(mn, mx), radius=r, gap=0)
-  for (int i = 0; i <= static_cast<int>((mx[0] - mn[0]) / a); ++i)
-    for (int j = 0; j <= static_cast<int>((mx[1] - mn[1]) / hy); ++j)
-      for (int k = 0; k <= static_cast<int>((mx[2] - mn[2]) / hz); ++k) {
-        double x = mn[0] + r + i * a, y = mn[1] + r + j * hy, z = mn[2] + r + k * hz;
-        if (j % 2 == 0) x += (k % 2 == 0) ? a / 2 : -a / 2;
-        if (k % 2 != 0) {
-          x += a / 2;
-          y += hy / 2;
-        }
-        const double p[3] = {x, y, z};
-        bool in = true;
-        for (int d = 0; d < 3; ++d) in = in && p[d] - r >= mn[d] && p[d] + r <= mx[d];
-        if (in) w.add_particle(p, r, 0);
-      }
-  const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1};
-  w.add_plane(o, up, 0);
-  dem::BondParams bp;
-  const double A = M_PI * r * r, E = 1.3716e9;
-  bp.kn = E * r / A;        // Yade: k_n = 2 E R1 R2 / (R1 + R2) = E R
-  bp.kt = 0.35 * bp.kn;     // Yade: k_s = nu k_n
-  bp.sigma_c = 25e6;
-  bp.tau_c = 9e6;
-  bp.radius_multiplier = 1.0;
-  w.bond_within(0.2 * 2 * r, bp);  // interactionDetectionFactor 1.2
+  dem::World w(dem::bench::peer_params(1e-7, threads));
+  dem::bench::build_bonded_hex(w);
   w.step(warmup >= 0 ? warmup : 200);
   const double wall = timed(w, steps);
   report("bonded_hex", w, steps, wall);
@@ -134,13 +115,196 @@ void bonded_hex(long steps, int threads, long warmup) {
                2.0 * w.n_bonds_intact() / w.particles().size(), w.breaks().size());
 }
 
+// ---------------------------------------------------------------- crusher
+// The mantle (floating cone) at nutation theta about O1 (the origin), its axis leaning towards azimuth
+// phi = Omega t (the drive's speed: the vibrator carries the mantle round once per revolution), no spin of its own;
+// the concave (fixed cone) at rest. Angular velocity from the orientation's rate, COM velocity w x com.
+struct Gyration {
+  double theta = 0, omega = 0, phi0 = 0, t0 = 0, mantle_com_z = 0, concave_com_z = 0;
+  Eigen::Vector3d pivot = Eigen::Vector3d::Zero(), concave_origin = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond spin = Eigen::Quaterniond::Identity(), concave_q = Eigen::Quaterniond::Identity();
+  Eigen::Quaterniond q(double t) const {
+    const double phi = phi0 + omega * (t - t0);
+    return Eigen::Quaterniond(Eigen::AngleAxisd(theta, Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0))) * spin;
+  }
+  coupling::BodyMotion mantle(double t) const {
+    coupling::BodyMotion b;
+    const double h = 1e-6;
+    b.orientation = q(t);
+    const Eigen::AngleAxisd d(q(t + h) * q(t).inverse());
+    b.angular_velocity = d.axis() * d.angle() / h;
+    const Eigen::Vector3d arm = b.orientation * Eigen::Vector3d(0, 0, mantle_com_z);
+    b.com = pivot + arm;
+    b.velocity = b.angular_velocity.cross(arm);
+    return b;
+  }
+  coupling::BodyMotion concave() const {
+    coupling::BodyMotion b;
+    b.orientation = concave_q;
+    b.com = concave_origin + concave_q * Eigen::Vector3d(0, 0, concave_com_z);
+    return b;
+  }
+  // Continues from the liners' poses in a loaded state: its nutation (unless given), azimuth and spin, the pivot
+  // (O1) where the mantle's frame is, the concave where it is.
+  void continue_from(const coupling::ChamberDem& dem, bool keep_theta) {
+    const auto& pm = dem.mantle().mesh().pose();
+    const Eigen::Vector3d axis = pm.orientation * Eigen::Vector3d::UnitZ();
+    if (!keep_theta) theta = std::acos(std::min(1.0, axis.z()));
+    phi0 = std::atan2(axis.y(), axis.x());
+    t0 = dem.time();
+    const Eigen::Quaterniond tilt(
+        Eigen::AngleAxisd(std::acos(std::min(1.0, axis.z())), Eigen::Vector3d(-std::sin(phi0), std::cos(phi0), 0)));
+    spin = tilt.inverse() * pm.orientation;  // the rotation about the mantle's own axis
+    pivot = pm.position;
+    concave_origin = dem.concave().mesh().pose().position;
+    concave_q = dem.concave().mesh().pose().orientation;
+  }
+};
+
+template <std::size_t K>
+std::array<double, K> minus(const std::array<double, K>& a, const std::array<double, K>& b) {
+  std::array<double, K> d;
+  for (std::size_t k = 0; k < K; ++k) d[k] = a[k] - b[k];
+  return d;
+}
+
+void print_cost_model(const char* title, dem::CostModelInputs in) {
+  std::printf("cost_model %s: particles %.0f dt_s %.3g core_s_per_particle_step %.3g serial_s_per_step %.3g "
+              "ghost_width_mm %.1f mean_radius_mm %.0f bytes_per_ghost %.0f\n",
+              title, in.particles, in.dt_s, in.core_s_per_particle_step, in.serial_s_per_step,
+              1e3 * in.ghost_width_m, 1e3 * in.mean_radius_m, in.bytes_forward + in.bytes_reverse);
+  std::printf("cost_model %s: %5s %10s %9s %9s %9s | %21s | %21s\n", title, "cores", "ghosts/bd", "comp_us",
+              "serial_us", "comm_us", "10GbE: h/sim-s (eff)", "IB 100G: h/sim-s (eff)");
+  for (int P = 1; P <= 256; P *= 2) {
+    dem::CostModelInputs eth = in, ib = in;
+    eth.bandwidth_B_s = 1.25e9;  // 10 Gb Ethernet
+    eth.latency_s = 20e-6;       // MPI over TCP, one message
+    ib.bandwidth_B_s = 12.5e9;   // InfiniBand HDR100
+    ib.latency_s = 2e-6;
+    const auto a = dem::cost_model(eth, P), b = dem::cost_model(ib, P);
+    std::printf("cost_model %s: %5d %10.0f %9.1f %9.1f %9.1f | %12.2f (%5.1f %%) | %12.2f (%5.1f %%)%s\n", title, P,
+                a.ghosts_per_boundary, 1e6 * a.compute_s, 1e6 * a.serial_s, 1e6 * a.comm_s, a.wall_h_per_sim_s,
+                100 * a.efficiency, b.wall_h_per_sim_s, 100 * b.efficiency,
+                a.sectors_too_thin ? "  sectors thinner than 2 ghost widths: needs azimuth x height" : "");
+  }
+}
+
+void crusher(const std::string& config, const std::string& from_run, long steps, int threads, long warmup,
+             double nutation_deg, bool nutation_given) {
+  if (config.empty()) throw std::invalid_argument("--case crusher needs --config FILE (a coupled run's config)");
+  auto root = core::ConfigNode::load_file(config);
+  const auto coupling_opt = core::load_coupling_options(root.child_or_empty("coupling"));
+  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  const auto flow = root.child_or_empty("flow");
+  auto cp = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
+                                          mech.fixed_cone.com_z_m, &flow);
+  cp.threads = threads;
+  Gyration g;
+  g.theta = nutation_deg * M_PI / 180;
+  g.omega = mech.drive_speed_rad_s;
+  g.mantle_com_z = mech.floating_cone.com_z_m;
+  g.concave_com_z = mech.fixed_cone.com_z_m;
+  const double dtc = coupling_opt.dt_s;
+  auto t0 = std::chrono::steady_clock::now();
+  coupling::ChamberDem dem(cp);
+  long k = 0;
+  if (!from_run.empty()) {  // the newest sound DEM checkpoint of a coupled run of this config (dem_node's layout)
+    k = static_cast<long>(coupling::resume_step(from_run));
+    coupling::read_checkpoint(from_run, "dem", k, [&](core::BinaryReader& r) {
+      dem.load_state(r);
+      r.expect("NODE");
+      r.get<double>();   // dem_node's next output time
+      r.get<int64_t>();  // its break log's length
+    });
+    g.continue_from(dem, nutation_given);
+    std::fprintf(stderr, "crusher: from %s, coupling step %ld (t = %.4f s), %zu particles, mantle nutation %.3f deg\n",
+                 from_run.c_str(), k, dem.time(), dem.world().particles().size(), g.theta * 180 / M_PI);
+  }
+  const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const long k_start = k;
+  auto advance = [&](long n) {
+    for (long e = k + n; k < e; ++k) dem.advance(g.mantle(g.t0 + (k - k_start) * dtc), g.concave(), dtc);
+  };
+  t0 = std::chrono::steady_clock::now();
+  advance(from_run.empty() ? std::max(1L, warmup) : warmup);  // the first one pre-fills the chamber
+  const double warm_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const dem::World& w = dem.world();
+  const auto wph0 = w.phase_seconds();
+  const auto cph0 = dem.phase_seconds();
+  const long s0 = w.step_count(), r0 = w.n_rebuilds(), b0 = dem.broken_bonds();
+  const double n0 = static_cast<double>(w.particles().size());
+  const auto p0 = dem.product();
+  const double c0 = cpu_seconds();
+  t0 = std::chrono::steady_clock::now();
+  advance(steps);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = cpu_seconds() - c0;
+  const auto wph = minus(w.phase_seconds(), wph0);
+  const auto cph = minus(dem.phase_seconds(), cph0);
+  const long dem_steps = w.step_count() - s0;
+  const double n1 = static_cast<double>(w.particles().size()), n = 0.5 * (n0 + n1);
+  const double sim_s = steps * dtc;
+  const std::size_t nc = w.n_contacts();
+  const auto p1 = dem.product();
+  std::printf("case crusher particles %.0f steps %ld threads %d wall_s %.3f particle_steps_per_s %.4g contacts %zu "
+              "contacts_per_particle %.2f bonds %zu coupling_steps %ld sim_s %.4g wall_h_per_sim_s %.2f\n",
+              n1, dem_steps, w.threads(), wall, n * dem_steps / wall, nc, 2.0 * nc / std::max(n1, 1.0), w.n_bonds_intact(),
+              steps, sim_s, wall / sim_s / 3600.0);
+  // Where the time goes. Bonds: the bond law (World phase 3); the bond gather shares the per-particle loop with the
+  // planar walls and the kicks (integration).
+  const double pct = 100.0 / wall;
+  const double integ = wph[0] + wph[4] + wph[6];
+  const double other = wall - (wph[1] + wph[2] + wph[3] + wph[5] + integ + cph[1] + cph[2] + cph[3] + cph[4]);
+  std::printf("crusher_time %% bonds %.1f pair_contacts %.1f mesh_contacts %.1f rebuilds %.1f (%ld) "
+              "integration_gather %.1f liners %.1f fines %.1f crushing %.1f bookkeeping %.1f other %.1f\n",
+              pct * wph[3], pct * wph[2], pct * wph[5], pct * wph[1], w.n_rebuilds() - r0, pct * integ, pct * cph[1],
+              pct * cph[2], pct * cph[3], pct * cph[4], pct * other);
+  std::fprintf(stderr,
+               "crusher: config %s, nutation %.2f deg at %.0f rpm, coupling step %.3g s = %ld DEM steps of %.3g s; "
+               "chamber built (and loaded) in %.1f s, pre-fill + %ld warm-up coupling step(s) %.1f s (pre-fill %.1f s); timed: "
+               "process CPU %.1f s; %ld bonds broke, %ld metaparticles crushed, fines held %.2f kg\n",
+               config.c_str(), g.theta * 180 / M_PI, g.omega * 60 / (2 * M_PI), dtc, dem_steps / std::max(1L, steps), w.dt(),
+               build_s, from_run.empty() ? std::max(1L, warmup) : warmup, warm_s, dem.phase_seconds()[5], cpu,
+               dem.broken_bonds() - b0, p1.metaparticles_crushed - p0.metaparticles_crushed, p1.fines_bed_kg);
+  // Cost model inputs from this run: the whole World step splits by sector (parallel); the chamber-level work stays
+  // on one rank (serial).
+  const auto& P = w.particles();
+  double dmax = 0, rsum = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    dmax = std::max(dmax, 2 * P.r[i]);
+    rsum += std::hypot(P.x[i], P.y[i]);
+  }
+  double world_s = 0;
+  for (double v : wph) world_s += v;
+  dem::CostModelInputs in;
+  in.particles = n;
+  in.dt_s = w.dt();
+  in.core_s_per_particle_step = world_s * w.threads() / (n * dem_steps);
+  in.serial_s_per_step = (cph[1] + cph[2] + cph[3] + cph[4]) / dem_steps;
+  in.ghost_width_m = dmax + w.skin();
+  in.mean_radius_m = rsum / std::max<std::size_t>(P.size(), 1);
+  in.steps_per_coupling = static_cast<double>(dem_steps) / steps;
+  print_cost_model("this_model", in);
+  // The paper's Table 4 (EDEM): 229,409 particles at 1.3e-7 s (the text reads '22 | 29,409' and '1. | 3e-7': the
+  // extraction split the cells), at this engine's measured per-particle cost; the serial part scaled with the
+  // particle count, the charge's geometry the same.
+  dem::CostModelInputs paper = in;
+  paper.particles = 229409;
+  paper.dt_s = 1.3e-7;
+  paper.serial_s_per_step = in.serial_s_per_step * paper.particles / n;
+  paper.steps_per_coupling = 1e-3 / paper.dt_s;
+  print_cost_model("paper_table4", paper);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string which = "all";
+  std::string which = "all", config, from_run;
+  bool nutation_given = false;
   long steps = -1;
   int threads = 0;
   long warmup = -1;
+  double nutation_deg = 0.73;
   try {
     for (int k = 1; k < argc; ++k) {
       const std::string a = argv[k];
@@ -150,8 +314,10 @@ int main(int argc, char** argv) {
       };
       if (a == "--case") {
         which = next();
-        if (which != "granular_fcc" && which != "bonded_hex" && which != "all")
-          throw std::invalid_argument("--case accepts granular_fcc, bonded_hex or all, got '" + which + "'");
+        if (which != "granular_fcc" && which != "granular_pressed" && which != "bonded_hex" && which != "crusher" &&
+            which != "all")
+          throw std::invalid_argument(
+              "--case accepts granular_fcc, granular_pressed, bonded_hex, crusher or all, got '" + which + "'");
       } else if (a == "--steps") {
         steps = std::stol(next());
         if (steps < 1) throw std::invalid_argument("--steps must be >= 1");
@@ -161,16 +327,31 @@ int main(int argc, char** argv) {
       } else if (a == "--warmup") {
         warmup = std::stol(next());
         if (warmup < 0) throw std::invalid_argument("--warmup must be >= 0");
+      } else if (a == "--config") {
+        config = next();
+      } else if (a == "--from-run") {
+        from_run = next();
+      } else if (a == "--nutation-deg") {
+        nutation_deg = std::stod(next());
+        nutation_given = true;
+        if (!(nutation_deg >= 0 && nutation_deg < 5))
+          throw std::invalid_argument("--nutation-deg must be in [0, 5), got " + std::to_string(nutation_deg));
       } else if (a == "-h" || a == "--help") {
-        std::cout << "usage: dem_bench [--case granular_fcc|bonded_hex|all] [--steps S] [--threads T]\n";
+        std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] "
+                     "[--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D]\n";
         return 0;
       } else {
-        throw std::invalid_argument("unknown option '" + a + "' (accepted: --case, --steps, --threads, --warmup)");
+        throw std::invalid_argument("unknown option '" + a +
+                                    "' (accepted: --case, --steps, --threads, --warmup, --config, --from-run, --nutation-deg)");
       }
     }
     if (threads == 0) threads = omp_get_max_threads();
-    if (which == "granular_fcc" || which == "all") granular_fcc(steps > 0 ? steps : 5000, threads, warmup);
-    if (which == "bonded_hex" || which == "all") bonded_hex(steps > 0 ? steps : 2000, threads, warmup);
+    const bool all = which == "all";
+    if (which == "granular_fcc" || all) granular_fcc(steps > 0 ? steps : 5000, threads, warmup);
+    if (which == "granular_pressed" || all) granular_pressed(steps > 0 ? steps : 5000, threads, warmup);
+    if (which == "bonded_hex" || all) bonded_hex(steps > 0 ? steps : 2000, threads, warmup);
+    if (which == "crusher")
+      crusher(config, from_run, steps > 0 ? steps : 2, threads, warmup >= 0 ? warmup : 1, nutation_deg, nutation_given);
   } catch (const std::exception& e) {
     std::cerr << "dem_bench: " << e.what() << "\n";
     return 2;
