@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/cli_args.hpp"
 #include "dem/world.hpp"
 
 namespace {
@@ -153,14 +154,11 @@ int main(int argc, char** argv) {
         if (which != "granular_fcc" && which != "bonded_hex" && which != "all")
           throw std::invalid_argument("--case accepts granular_fcc, bonded_hex or all, got '" + which + "'");
       } else if (a == "--steps") {
-        steps = std::stol(next());
-        if (steps < 1) throw std::invalid_argument("--steps must be >= 1");
+        steps = core::parse_integer(a, next(), 1, 1000000000);
       } else if (a == "--threads") {
-        threads = std::stoi(next());
-        if (threads < 1) throw std::invalid_argument("--threads must be >= 1");
+        threads = static_cast<int>(core::parse_integer(a, next(), 1, 1024));
       } else if (a == "--warmup") {
-        warmup = std::stol(next());
-        if (warmup < 0) throw std::invalid_argument("--warmup must be >= 0");
+        warmup = core::parse_integer(a, next(), 0, 1000000000);
       } else if (a == "-h" || a == "--help") {
         std::cout << "usage: dem_bench [--case granular_fcc|bonded_hex|all] [--steps S] [--threads T]\n";
         return 0;
