@@ -169,6 +169,27 @@ Recording parse_recording_csv(const std::string& text, const std::string& name, 
         << " s (sampling interval " << dt << " s): recording is not continuous";
       fail(0, 0, m.str());
     }
+  // Unit slips (issue 22: a recording in mm was read as "sensor gain 1115"): a crusher frame vibrates millimetres
+  // (Table 5: 5.5 mm), so a half peak-to-peak above 0.1 m is refused, and a motor that draws under 100 W on average;
+  // when 1/1000 (1000x) of the value would fit, the message names the likely unit.
+  for (int c : {kX, kY, kZ}) {
+    const auto [lo, hi] = std::minmax_element(r.channel(c).begin(), r.channel(c).end());
+    const double amp = 0.5 * (*hi - *lo);
+    if (amp > 0.1) {
+      std::ostringstream m;
+      m << kChannelNames[c] << ": half peak-to-peak " << amp << " m is implausible for a crusher frame (at most 0.1 m)"
+        << (amp * 1e-3 <= 0.1 ? "; millimetres given for metres? (divide by 1000)" : "");
+      fail(0, 0, m.str());
+    }
+  }
+  double mean_W = 0;
+  for (double p : r.power_W) mean_W += p / r.size();
+  if (mean_W < 100) {
+    std::ostringstream m;
+    m << "power_W: mean " << mean_W << " W is implausible for a crusher's motor (at least 100 W)"
+      << (mean_W * 1e3 >= 100 ? "; kilowatts given for watts? (multiply by 1000)" : "");
+    fail(0, 0, m.str());
+  }
   check_consistent(r);
   return r;
 }

@@ -1,11 +1,42 @@
 #pragma once
 // Command-line walking for the tools: `--flag value` pairs with checked numbers, so that every tool says
-// the same thing about a missing value or a number out of range.
+// the same thing about a missing value or a number out of range. parse_number/parse_integer are the one check of
+// a number given as text (flags, ROS parameters): the whole text a finite number in [lo, hi], else an
+// std::invalid_argument naming the flag, the value and what is accepted.
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 
 namespace core {
+
+inline std::string number_text(double x) {  // 1e+09 -> "1e+09", 0.1 -> "0.1"
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", x);
+  return b;
+}
+
+inline double parse_number(const std::string& flag, const std::string& v, double lo, double hi,
+                           const std::string& unit = "") {
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || !end || *end || !std::isfinite(x) || !(x >= lo && x <= hi))
+    throw std::invalid_argument(flag + " " + (v.empty() ? "''" : v) + ": accepted a number in [" + number_text(lo) +
+                                ", " + number_text(hi) + "]" + (unit.empty() ? "" : " " + unit));
+  return x;
+}
+
+inline long parse_integer(const std::string& flag, const std::string& v, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || !end || *end || errno == ERANGE || n < lo || n > hi)
+    throw std::invalid_argument(flag + " " + (v.empty() ? "''" : v) + ": accepted a whole number in [" +
+                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return n;
+}
 
 class CliArgs {
  public:
@@ -16,23 +47,13 @@ class CliArgs {
     if (i_ + 1 >= argc_) throw std::invalid_argument(flag() + " needs a value");
     return argv_[++i_];
   }
-  double number(double lo, double hi) {          // the flag's value as a number in [lo, hi]
-    const std::string f = flag(), v = value();
-    char* end = nullptr;
-    const double x = std::strtod(v.c_str(), &end);
-    if (v.empty() || !end || *end || !(x >= lo && x <= hi))
-      throw std::invalid_argument(f + " " + v + ": accepted a number in [" + std::to_string(lo) + ", " +
-                                  std::to_string(hi) + "]");
-    return x;
+  double number(double lo, double hi, const std::string& unit = "") {  // the flag's value as a number in [lo, hi]
+    const std::string f = flag();
+    return parse_number(f, value(), lo, hi, unit);
   }
   long integer(long lo, long hi) {               // the flag's value as a whole number in [lo, hi]
-    const std::string f = flag(), v = value();
-    char* end = nullptr;
-    const long n = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || !end || *end || n < lo || n > hi)
-      throw std::invalid_argument(f + " " + v + ": accepted a whole number in [" + std::to_string(lo) + ", " +
-                                  std::to_string(hi) + "]");
-    return n;
+    const std::string f = flag();
+    return parse_integer(f, value(), lo, hi);
   }
 
  private:

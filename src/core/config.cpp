@@ -30,7 +30,8 @@ ConfigNode::ConfigNode(YAML::Node node, std::string path, std::string file)
 
 namespace {
 // Walks the parse events of a YAML text and throws ConfigError at the first key that appears twice in one mapping
-// (yaml-cpp would keep the first silently).
+// (yaml-cpp would keep the first silently) and at a list longer than kMaxConfigList (before yaml-cpp builds it:
+// issue 22, a 60 MB list took 7.7 GB).
 class DuplicateKeys : public YAML::EventHandler {
  public:
   explicit DuplicateKeys(std::string name) : name_(std::move(name)) {}
@@ -89,7 +90,10 @@ class DuplicateKeys : public YAML::EventHandler {
     if (stack_.empty()) return;
     Frame& f = stack_.back();
     if (f.map) f.want_key = !f.want_key;
-    else ++f.index;
+    else if (++f.index > kMaxConfigList)
+      throw ConfigError("config " + name_ + ": '" + (f.path.empty() ? "the top level" : f.path) +
+                        "' is a list of more than " + std::to_string(kMaxConfigList) +
+                        " elements; accepted at most that many (a run config's lists are short: is it the right file?)");
   }
   std::string name_;
   std::vector<Frame> stack_;
@@ -126,6 +130,12 @@ namespace {
 YAML::Node resolved(const std::string& file, int depth) {
   std::ifstream in(file);
   if (!in) throw ConfigError("config: cannot open '" + file + "'");
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<long long>(in.tellg());
+  in.seekg(0);
+  if (size > kMaxConfigBytes)
+    throw ConfigError("config " + file + ": " + std::to_string(size) + " bytes; accepted at most " +
+                      std::to_string(kMaxConfigBytes) + " (1 MiB; a run config is a few KB: is it the right file?)");
   std::stringstream ss;
   ss << in.rdbuf();
   YAML::Node root = parse(ss.str(), file);
@@ -144,6 +154,9 @@ YAML::Node resolved(const std::string& file, int depth) {
 ConfigNode ConfigNode::load_file(const std::string& file) { return ConfigNode(resolved(file, 0), "", file); }
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
+  if (static_cast<long long>(text.size()) > kMaxConfigBytes)
+    throw ConfigError("config " + name + ": " + std::to_string(text.size()) + " bytes; accepted at most " +
+                      std::to_string(kMaxConfigBytes) + " (1 MiB)");
   YAML::Node root = parse(text, name);
   if (!root.IsMap()) throw ConfigError("config " + name + ": the top level must be a mapping of keys");
   return ConfigNode(root, "", name);

@@ -13,6 +13,12 @@
 
 namespace core {
 
+// Input bounds: a config file (each file of a `base:` chain) of at most kMaxConfigBytes, lists of at most
+// kMaxConfigList elements; larger ones are refused by name before they are parsed into memory. The shipped configs
+// are under 15 KB with lists of at most 11 elements.
+constexpr long long kMaxConfigBytes = 1 << 20;
+constexpr int kMaxConfigList = 10000;
+
 class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

@@ -1,5 +1,6 @@
 #include "core/config_schema.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -22,6 +23,32 @@ void set_path(YAML::Node& node, const std::string& name, const YAML::Node& v) {
   if (!child.IsMap()) child = YAML::Node(YAML::NodeType::Map);
   set_path(child, name.substr(dot + 1), v);
   node[head] = child;
+}
+
+void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
+  if (k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers)) return;
+  const YAML::Node y = node.raw()[key];
+  std::vector<double> v;
+  if (y.IsSequence())
+    for (const auto& e : y) v.push_back(e.as<double>());
+  else
+    v.push_back(y.as<double>());
+  const double lo = k.plausible_lo, hi = k.plausible_hi;
+  auto inside = [&](double a) { return a >= lo && a <= hi; };
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const double a = std::abs(v[i]);
+    if (a == 0 || inside(a)) continue;
+    std::ostringstream s;
+    s << (v.size() > 1 ? "element " + std::to_string(i) + " value " : "value ") << format_number(v[i])
+      << " is implausible: magnitudes of " << format_number(lo) << " to " << format_number(hi) << " " << k.unit
+      << " are expected (or 0)";
+    if (a < lo && inside(a * 1e3))
+      s << "; 1000x that (" << format_number(v[i] * 1e3) << ") would fit: " << k.slip_small;
+    else if (a > hi && inside(a * 1e-3))
+      s << "; 1/1000 of it (" << format_number(v[i] * 1e-3) << ") would fit: " << k.slip_large;
+    s << " (refused as a likely unit slip)";
+    node.fail(key, s.str());
+  }
 }
 
 namespace {

@@ -34,7 +34,15 @@ struct KeyInfo {
   std::string default_text;          // the default as the reference prints it ("required", "unset", a value)
   bool written = true;               // false: read only (e.g. a file whose values are written as keys)
   std::string applies_to;            // non-empty: the key exists only then (e.g. "law: hysteretic only ...")
+  // Plausibility (numbers, lists): a value inside [lo, hi] whose magnitude lies outside [plausible_lo,
+  // plausible_hi] (0 is accepted) is refused as a likely unit slip; slip_small / slip_large name the slip of a value
+  // ~1000x below / above the band ("metres given for mm?"). plausible_hi 0: no band.
+  double plausible_lo = 0, plausible_hi = 0;
+  std::string slip_small, slip_large;
 };
+
+// Refuses (ConfigError through `node`) a value of `key` outside the plausible band of `k`, naming the likely slip.
+void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k);
 
 // A copy of `over` laid over a copy of `base`: mappings merge key by key (recursively), anything else replaces
 // (how a config's keys are laid over its `base:` file; config.cpp).
@@ -150,6 +158,16 @@ class Schema {
     e.applies_text = what;
     e.info.applies_to = what;
     if (e.info.required) e.info.default_text = "required if " + when;
+    return *this;
+  }
+  // The last key added (a number or a list): magnitudes outside [lo, hi] but inside its range are refused as a
+  // likely unit slip (0 is accepted); `small` / `large` name the slip of a value ~1000x below / above the band.
+  Schema& plausible(double lo, double hi, const std::string& small, const std::string& large) {
+    auto& i = entries_.back().info;
+    i.plausible_lo = lo;
+    i.plausible_hi = hi;
+    i.slip_small = small;
+    i.slip_large = large;
     return *this;
   }
   // The mapping at `path` is written in flow style ({a: 1, b: 2}).
@@ -285,6 +303,7 @@ class Schema {
       case KeyKind::Text: e.set_str(out, n->text(key)); break;
       case KeyKind::Numbers: e.set_list(out, n->numbers(key, i.lo, i.hi, i.unit, i.scale, i.length)); break;
     }
+    check_plausible(*n, key, i);
     if (e.then) e.then(*n, key, out);
   }
   Entry make(const std::string& name, KeyKind kind, const std::string& unit, double scale, double lo, double hi,

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/cli_args.hpp"
+
 namespace core {
 
 const Schema<RunOptions>& run_schema() {
@@ -49,6 +51,12 @@ const Schema<CouplingOptions>& coupling_schema() {
     return k;
   }();
   return s;
+}
+
+double checked_duration(const std::string& flag, const std::string& text) {
+  for (const auto& e : run_schema().entries())
+    if (e.info.name == "duration_s") return parse_number(flag, text, e.info.lo, e.info.hi, "s (run.duration_s)");
+  throw std::logic_error("run_schema has no duration_s");
 }
 
 RunOptions load_run_options(const ConfigNode& run) {

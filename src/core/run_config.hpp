@@ -32,6 +32,9 @@ const Schema<RunOptions>& run_schema();
 const Schema<CouplingOptions>& coupling_schema();
 
 RunOptions load_run_options(const ConfigNode& run);            // the `run:` mapping
+// A duration given outside the config (`crusher run --duration`, the nodes' ~duration), as text: a number of
+// seconds in run.duration_s's range, else std::invalid_argument naming `flag`, the value and the range.
+double checked_duration(const std::string& flag, const std::string& text);
 // After any override of `load`: a dem run takes run.coupled's warm_start_s, settle_s and checkpoint_every_s where given.
 void apply_coupled_overrides(RunOptions& o);
 CouplingOptions load_coupling_options(const ConfigNode& coupling);  // the `coupling:` mapping (may be empty)

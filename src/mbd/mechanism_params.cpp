@@ -39,14 +39,21 @@ using S = core::Schema<MechanismParams>;
 template <class V>
 using Ref = std::function<V&(P&)>;
 
+// Plausible bands (core::Schema::plausible): a value inside a key's range but ~1000x off is a unit slip (issue 22:
+// `com_z_mm: -0.7`, absorber stiffness x1000 passed). Points of the machine lie 10 mm to 10 m from O1 (or on it: 0).
+constexpr double kPointLo_mm = 10, kPointHi_mm = 10000;
+const char* const kMetresForMm = "metres given for mm?";
+
 // mass_kg, com_z_mm (if com), inertia_kg_m2 of a body under `name`.
 void body(S& k, const std::string& name, Ref<BodyParams> b, double mass_lo, double mass_hi, bool with_com,
           const std::string& what) {
   k.number(name + ".mass_kg", "kg", 1, mass_lo, mass_hi, [b](P& p) -> double& { return b(p).mass_kg; },
            what + ": mass", true);
-  if (with_com)
-    k.number(name + ".com_z_mm", "mm", u::mm, -10000, 10000, [b](P& p) -> double& { return b(p).com_z_m; },
-             what + ": centre of mass height on the axis", true);
+  if (with_com)  // the cones: 50 kg (a laboratory crusher's) to 1000 t
+    k.plausible(50, 1e6, "tonnes given for kg?", "grams given for kg?")
+        .number(name + ".com_z_mm", "mm", u::mm, -10000, 10000, [b](P& p) -> double& { return b(p).com_z_m; },
+                what + ": centre of mass height on the axis", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "");
 }
 void inertia(S& k, const std::string& name, Ref<BodyParams> b, const std::string& what) {
   k.vector3(name + ".inertia_kg_m2", "kg m^2", 1, 1e-6, 1e7, [b](P& p) -> Eigen::Vector3d& { return b(p).inertia_kg_m2; },
@@ -83,23 +90,30 @@ const core::Schema<MechanismParams>& mechanism_schema() {
     inertia(k, "vibrator", [](P& p) -> BodyParams& { return p.vibrator; }, "B3 vibrator");
     k.number("vibrator.axis_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.vibrator_axis_z_m; },
              "O3: vibrator centre on the floating-cone axis", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "")
         .number("vibrator.static_moment_kg_m", "kg m", 1, 0.0, 1e4,
                 [](P& p) -> double& { return p.vibrator_static_moment_kg_m; },
                 "mass x eccentricity (at most 0.5 m eccentricity)", true);
     body(k, "globe_bearing", [](P& p) -> BodyParams& { return p.globe_bearing; }, 0.1, 1e5, false, "B4 globe bearing");
     inertia(k, "globe_bearing", [](P& p) -> BodyParams& { return p.globe_bearing; }, "B4 globe bearing");
     k.number("globe_bearing.joint_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.globe_bearing_z_m; },
-             "O2, below O1 and above O3", true);
+             "O2, below O1 and above O3", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "");
     body(k, "connecting_shaft", [](P& p) -> BodyParams& { return p.connecting_shaft; }, 0.1, 1e5, false,
          "B5 connecting shaft");
     inertia(k, "connecting_shaft", [](P& p) -> BodyParams& { return p.connecting_shaft; }, "B5 connecting shaft");
     k.number("connecting_shaft.ball_pin_z_mm", "mm", u::mm, -10000, 0, [](P& p) -> double& { return p.ball_pin_z_m; },
              "O5 on the vibrator axis", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "")
         .number("connecting_shaft.universal_z_mm", "mm", u::mm, -10000, 0,
                 [](P& p) -> double& { return p.universal_z_m; }, "O6 on the crusher axis", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "")
         .vector3("absorbers.stiffness_N_per_mm", "N/mm", u::N_per_mm, 1e-3, 1e7,
                  [](P& p) -> Eigen::Vector3d& { return p.absorber_k_N_per_m; }, "rubber absorbers, total k_x k_y k_z",
                  true)
+        // Rubber isolators hold the frame's mode at ~0.5-5 Hz: k = m (2 pi f)^2 is 10 N/mm for 1 t at 0.5 Hz,
+        // 1e5 N/mm for 100 t at 5 Hz (Table 1: 320-970 N/mm for 24 t, ~0.5 Hz).
+        .plausible(10, 1e5, "kN/mm given for N/mm?", "N/m given for N/mm?")
         .vector3("absorbers.damping_Ns_per_mm", "N s/mm", u::Ns_per_mm, 0.0, 1e6,
                  [](P& p) -> Eigen::Vector3d& { return p.absorber_c_Ns_per_m; }, "rubber absorbers, total c_x c_y c_z",
                  true)
@@ -107,6 +121,7 @@ const core::Schema<MechanismParams>& mechanism_schema() {
                 "ring of the absorbers (tilt and twist stiffness)", true)
         .vector3("test_point_mm", "mm", u::mm, -10000, 10000, [](P& p) -> Eigen::Vector3d& { return p.test_point_m; },
                  "test point on the fixed cone (world, at rest)", true)
+        .plausible(kPointLo_mm, kPointHi_mm, kMetresForMm, "")
         // Table 1 is in the kg-s-mm-N system: F[N] = k d[mm]^h1 + c |v[mm/s]|^h2 d[mm]^h3.
         .number_scaled("contact.stiffness_N_per_mm", "N/mm^h1",
                        [](const P& p) { return u::power_law_stiffness_to_si(1.0, p.contact.h1); }, 1.0, 1e9,

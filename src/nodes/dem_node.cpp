@@ -21,15 +21,18 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <thread>
 #include <sys/stat.h>
 #include <cerrno>
 #include <cstring>
 #include <unistd.h>
 
+#include "core/cli_args.hpp"
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
 #include "core/duration_text.hpp"
+#include "core/openmp_wait.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism_params.hpp"
@@ -110,7 +113,8 @@ class DemNode {
       ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f, spheres at %.0f kg/m^3", k,
                dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k), dem_->sphere_density(k));
     }
-    ROS_INFO("dem_node: ready, DEM step %.3g s", dem_->dt());
+    ROS_INFO("dem_node: ready, DEM step %.3g s; OpenMP threads wait %s", dem_->dt(),
+             core::openmp_wait_policy().c_str());
     {  // Before it starts: the wall time at the full machine's measured rate (src/coupling/README.md: 8e6
        // particle-steps/s on 2 cores); the progress lines' ETA then follows this run's own rate.
       const double n = static_cast<double>(dem_->world().particles().size());
@@ -198,14 +202,20 @@ class DemNode {
       if (ck_steps_ && follower_.last_answered() && *follower_.last_answered() + 1 != last_checkpoint_)
         checkpoint_and_rotate(*follower_.last_answered() + 1);
     } catch (const std::exception& e) {
-      nodes::log_error(std::string("dem_node: ") + e.what() + "; the bag and the break log are kept");
+      nodes::log_error(std::string("dem_node: ") + e.what() + "; stopping");
       status = 1;
       tell_leader(e.what());
     }
     if (status > 1) tell_leader(nodes::stop_reason());  // stopped by a signal
-    publish_outputs(true);
-    bag_.close();
-    write_trajectories();
+    try {  // the last sample; after a write error the bag and the break log take nothing more
+      publish_outputs(true);
+    } catch (const std::exception& e) {
+      nodes::log_error(std::string("dem_node: ") + e.what());
+      status = status ? status : 1;
+    }
+    bag_.close();  // a failure is logged by name
+    if (!bag_.error().empty() && !status) status = 1;
+    if (!write_trajectories() && !status) status = 1;
     const auto p = dem_->product();
     ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg; "
              "%.2f kg in %ld metaparticles crushed to fines (%.2f kg of them still in the chamber, dem.fines: flow), %ld crushed into "
@@ -274,12 +284,16 @@ class DemNode {
   }
 
   // Trajectories of a few tracked particles (section 4.2.2, Figure 20), one row per bookkeeping sample.
-  void write_trajectories() {
-    if (out_.empty()) return;
-    std::ofstream f(out_ + "/trajectories.csv");
+  // False when the file could not be written (said by name).
+  bool write_trajectories() {
+    if (out_.empty()) return true;
+    std::ostringstream f;
     f << "particle_id,t_s,x_m,y_m,z_m\n";
     for (const auto& p : dem_->trajectories())
       f << p.id << "," << p.t << "," << p.x.x() << "," << p.x.y() << "," << p.x.z() << "\n";
+    const std::string err = nodes::write_file(out_ + "/trajectories.csv", f.str());
+    if (!err.empty()) nodes::log_error("dem_node: " + err);
+    return err.empty();
   }
 
   // Progress for the person waiting: sim time, percent, ETA, particles, broken bonds (every 5 s of wall time).
@@ -354,13 +368,23 @@ class DemNode {
   }
 
   void log_breaks() {
+    errno = 0;
     for (const auto& b : dem_->take_breaks()) {
-      if (breaks_) {
+      if (breaks_.is_open()) {
         const char* mode = b.crushed ? "crushed" : b.tensile ? "tensile" : "shear";
         breaks_ << b.t << "," << b.x[0] << "," << b.x[1] << "," << b.x[2] << "," << mode
                 << "," << b.id_i << "," << b.id_j << "," << b.sigma << "," << b.tau << "\n";
       }
     }
+    check_breaks_log();
+  }
+
+  // A write error in breaks.csv: the log is closed (it takes nothing more) and the error thrown, once.
+  void check_breaks_log() {
+    if (!breaks_.is_open() || breaks_.good()) return;
+    const int err = errno;
+    breaks_.close();
+    throw nodes::WriteError(nodes::write_error_text(out_ + "/breaks.csv", "the break log", err));
   }
 
   // SPHERE_LIST per radius bin (a marker has one scale), coloured by fragment.
@@ -449,13 +473,16 @@ class DemNode {
   // ---- checkpoints: the DEM state at the start of coupling step k, with what this node adds to it
   // Checkpoint at step k, then a new bag segment from it.
   void checkpoint_and_rotate(std::uint64_t k) {
+    bag_.close_or_throw();  // as mbd_node: a checkpoint never follows a segment that is not whole
     write_checkpoint(k);
-    bag_.reopen(coupling::bag_segment_path(out_, "dem", k));
+    bag_.open(coupling::bag_segment_path(out_, "dem", k));
   }
 
   void write_checkpoint(std::uint64_t k) {
     const double w0 = nodes::wall_now();
+    errno = 0;
     breaks_.flush();
+    check_breaks_log();  // the checkpoint must not name a length the log does not have
     const std::streamoff breaks_size = breaks_.is_open() ? static_cast<std::streamoff>(breaks_.tellp()) : 0;
     coupling::write_checkpoint(out_, {"dem", k, dem_->time()}, [&](core::BinaryWriter& w) {
       dem_->save_state(w);
@@ -512,20 +539,22 @@ class DemNode {
 }  // namespace
 
 int main(int argc, char** argv) {
+  core::prefer_passive_openmp_wait(argv);  // a shared machine: the DEM's threads sleep while they wait
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a redirected log as they are written
   ros::init(argc, argv, "dem_node", ros::init_options::NoSigintHandler);
   nodes::install_stop_handler();
   ros::NodeHandle nh, pnh("~");
   const std::string config_path = nodes::param_or(pnh, "config", std::string());
   const std::string out = nodes::param_or(pnh, "out", std::string());
-  const double duration = nodes::param_or(pnh, "duration", -1.0);  // s; as mbd_node's, for progress and ETA
   if (config_path.empty()) {
     std::fprintf(stderr, "dem_node: parameter ~config is missing; usage: rosrun inertia_crusher dem_node "
                          "_config:=launch_free_configs/quick_demo.yaml [_out:=DIR]\n");
     return 2;
   }
   Config cfg;
+  double duration = -1;  // s; as mbd_node's, for progress and ETA
   try {
+    if (const auto d = nodes::param_text(pnh, "duration")) duration = core::checked_duration("parameter ~duration", *d);
     cfg = load_config(config_path);
   } catch (const std::exception& e) {  // mbd_node, waiting for the first answer, stops now instead of timing out
     std::fprintf(stderr, "dem_node: %s\n", e.what());

@@ -28,6 +28,7 @@
 #include "analysis/run_metrics.hpp"
 #include "chamber/flow_config.hpp"
 #include "chamber/flow_load.hpp"
+#include "core/cli_args.hpp"
 #include "core/run_config.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
@@ -141,12 +142,15 @@ class MbdNode {
     } catch (const std::exception& e) {
       char t[32];
       std::snprintf(t, sizeof t, "%.4f", mech_->time());
-      nodes::log_error(std::string("mbd_node: ") + e.what() + " (t = " + t + " s); the bag and the partial summary are kept");
-      status = nodes::stop_requested() && peer_stopped_.empty() ? nodes::stop_exit_status() : 1;
+      nodes::log_error(std::string("mbd_node: ") + e.what() + " (t = " + t + " s); stopping");
+      const bool write_error = dynamic_cast<const nodes::WriteError*>(&e) != nullptr;
+      status = nodes::stop_requested() && peer_stopped_.empty() && !write_error ? nodes::stop_exit_status() : 1;
       stopped_ = e.what();
       // Stopped while waiting for an answer (a signal, or dem_node stopped): the mechanism has not moved since
-      // it asked for that step, so its state is the one at the step dem_node checkpoints when it stops.
-      if (ck_steps_ && waiting_ && step_index() != last_checkpoint_) {
+      // it asked for that step, so its state is the one at the step dem_node checkpoints when it stops. Not after a
+      // write error: the bag segment since the last checkpoint is broken, and a resume from that checkpoint
+      // rewrites it.
+      if (ck_steps_ && waiting_ && !write_error && step_index() != last_checkpoint_) {
         try {
           checkpoint_and_rotate();
         } catch (const std::exception& e2) {
@@ -158,7 +162,7 @@ class MbdNode {
     if (mech_->time() > sim0)
       ROS_INFO("mbd_node: power, t = %.3f-%.3f s: %s", sim0, mech_->time(),
                mbd::describe(mbd::power_partition(flows0, sim0, mech_->flows(), mech_->time())).c_str());
-    finish();
+    finish(status);
     return status;
   }
 
@@ -368,7 +372,9 @@ class MbdNode {
     }
   }
 
-  void finish() {
+  // Closes the bag and writes summary.json; a write error in either makes `status` non-zero. After a failed or
+  // stopped run it says what the run's folder holds.
+  void finish(int& status) {
     if (cfg_.run.load == "dem") {
       const double until = nodes::wall_now() + 1.0;  // collect the DEM's last product message
       while (nodes::wall_now() < until) {
@@ -377,7 +383,11 @@ class MbdNode {
       }
       send_finished();
     }
-    bag_.close();
+    bag_.close();  // a failure is logged by name
+    if (!bag_.error().empty()) {
+      if (stopped_.empty()) stopped_ = bag_.error();
+      if (!status) status = 1;
+    }
     if (out_.empty()) return;
     auto s = analysis::summarize(sig_, cfg_.mech.drive_speed_rad_s, cfg_.run.settle_s);
     s.wall_s = wall_s_;
@@ -391,12 +401,32 @@ class MbdNode {
       s.product = nodes::flow_product(flow_->model(), w.by_class(), w.throughput_tph());
     }
     std::vector<std::string> non_finite;
-    std::ofstream(out_ + "/summary.json") << analysis::to_json(s, &non_finite);
+    const std::string summary_error = nodes::write_file(out_ + "/summary.json", analysis::to_json(s, &non_finite));
     for (const auto& f : non_finite)
       ROS_WARN("mbd_node: summary.json: %s is not a finite number, written as null", f.c_str());
+    if (!summary_error.empty()) {
+      nodes::log_error("mbd_node: " + summary_error + "; there is no summary of this run");
+      if (!status) status = 1;
+    }
+    if (status) report_kept(summary_error.empty());
     ROS_INFO("mbd_node: %.2f s simulated in %.2f s wall (%.3gx real time); amplitude x %.3f mm, power %.2f kW",
              s.simulated_s, wall_s_, s.simulated_s / std::max(wall_s_, 1e-9), s.amplitude_x_mm.mean,
              s.power_kW.mean);
+  }
+
+  // What a failed or stopped run leaves in ~out, said plainly (scripts/crusher run says it again for the folder).
+  void report_kept(bool summary_written) {
+    char t[48];
+    std::snprintf(t, sizeof t, "summary.json (to t = %.3f s)", mech_->time());
+    std::string kept = summary_written ? t : "";
+    if (ck_steps_ && last_checkpoint_ > 0)
+      kept += (kept.empty() ? "" : ", ") + std::string("its checkpoint at step ") + std::to_string(last_checkpoint_) +
+              " (--resume continues from it)";
+    kept += kept.empty() ? "" : ", ";
+    if (bag_.error().empty()) kept += ck_steps_ ? "its bag segments" : "run.bag";
+    else if (ck_steps_) kept += "its bag segments, the newest ending at the write error (a resume rewrites it)";
+    else kept += "run.bag up to the write error (unindexed: `rosbag reindex` mends it)";
+    nodes::log_warn("mbd_node: the run in " + out_ + " is incomplete; kept: " + kept);
   }
 
   // ---- checkpoints (coupled and fast runs with run.checkpoint_every_s > 0)
@@ -410,10 +440,12 @@ class MbdNode {
     coupling::remove_bag_segments_from(out_, "run", 0);
   }
 
-  // Checkpoint at the current step, then a new bag segment from it.
+  // Checkpoint at the current step, then a new bag segment from it. The segment before it is closed first: a
+  // checkpoint never follows a segment that could not be written whole (a resume rewrites from the one before).
   void checkpoint_and_rotate() {
+    bag_.close_or_throw();
     write_checkpoint();
-    bag_.reopen(coupling::bag_segment_path(out_, "run", step_index()));
+    bag_.open(coupling::bag_segment_path(out_, "run", step_index()));
   }
 
   void write_checkpoint() {
@@ -547,7 +579,9 @@ int main(int argc, char** argv) {
   }
   Config cfg;
   try {
-    cfg = load_config(config_path, nodes::param_or(pnh, "load", std::string()), nodes::param_or(pnh, "duration", -1.0));
+    const auto d = nodes::param_text(pnh, "duration");  // s, overrides run.duration_s
+    cfg = load_config(config_path, nodes::param_or(pnh, "load", std::string()),
+                      d ? core::checked_duration("parameter ~duration", *d) : -1.0);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mbd_node: %s\n", e.what());
     return 2;
@@ -559,7 +593,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    MbdNode node(nh, std::move(cfg), out, config_path, nodes::param_or(pnh, "max_rtf", 0.0), resume);
+    const auto rtf = nodes::param_text(pnh, "max_rtf");  // 0: as fast as possible
+    MbdNode node(nh, std::move(cfg), out, config_path,
+                 rtf ? core::parse_number("parameter ~max_rtf", *rtf, 0, 1e6, "(times real time; 0: as fast as possible)") : 0.0,
+                 resume);
     nodes::mark_running();
     return node.run();
   } catch (const std::exception& e) {

@@ -1,8 +1,10 @@
 #include "nodes/ros_common.hpp"
 
 #include <chrono>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <unistd.h>
 
 namespace nodes {
@@ -49,21 +51,84 @@ geometry_msgs::Twist to_twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w
   return t;
 }
 
+std::string write_error_text(const std::string& path, const std::string& detail, int err) {
+  std::string s = "writing " + path + " failed: " + detail;
+  if (err) s += std::string(" (") + std::strerror(err) + ")";
+  if (err == EFBIG) s += ": a file size limit (ulimit -f)?";
+  else if (!err) s += ": is the disk full?";
+  return s;
+}
+
 void BagRecorder::open(const std::string& path) {
-  bag_.open(path, rosbag::bagmode::Write);
+  path_ = path;
+  bag_ = std::make_unique<rosbag::Bag>();
+  errno = 0;
+  try {
+    bag_->open(path, rosbag::bagmode::Write);
+  } catch (const rosbag::BagException& e) {
+    fail(e.what(), errno);
+  }
   open_ = true;
 }
 
 void BagRecorder::reopen(const std::string& path) {
-  close();
+  close_or_throw();
   open(path);
 }
 
-void BagRecorder::close() {
-  if (open_) {
-    bag_.close();
-    open_ = false;
+void BagRecorder::fail(const std::string& detail, int err) {
+  const std::string msg = write_error_text(path_, detail, err);
+  if (error_.empty()) error_ = msg;
+  open_ = false;
+  try {
+    bag_->close();
+  } catch (const std::exception&) {
+    // rosbag::Bag keeps its file open when closing fails, and its destructor would close (and throw) again, which
+    // ends the process: the object is left unfreed instead (once, on the way out of a failed run).
+    (void)bag_.release();
   }
+  bag_.reset();
+  throw WriteError(msg);
+}
+
+void BagRecorder::close_or_throw() {
+  if (!open_) return;
+  errno = 0;
+  try {
+    bag_->close();
+  } catch (const rosbag::BagException& e) {
+    fail(e.what(), errno);
+  }
+  bag_.reset();
+  open_ = false;
+}
+
+void BagRecorder::close() {
+  try {
+    close_or_throw();
+  } catch (const WriteError& e) {
+    log_error(e.what());
+  }
+}
+
+std::string write_file(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  errno = 0;
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) return write_error_text(tmp, "cannot create it", errno);
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size() && std::fflush(f) == 0;
+  const int err = errno;
+  if (std::fclose(f) != 0 || !written) {
+    const int e = written ? errno : err;
+    std::remove(tmp.c_str());
+    return write_error_text(path, "not all of it was written", e);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    return write_error_text(path, "cannot rename " + tmp + " to it", e);
+  }
+  return "";
 }
 
 namespace {
@@ -77,6 +142,8 @@ void on_signal(int sig) {
 void install_stop_handler() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // A file size limit (ulimit -f) then fails the write (EFBIG), reported by name, instead of killing the node.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 void mark_running() { g_running = 1; }
@@ -95,6 +162,11 @@ void log_error(const std::string& msg) {
   else std::fprintf(stderr, "[ERROR] %s\n", msg.c_str());
 }
 
+void log_warn(const std::string& msg) {
+  if (ros::ok()) ROS_WARN("%s", msg.c_str());
+  else std::fprintf(stderr, "[WARN] %s\n", msg.c_str());
+}
+
 double wall_now() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();
@@ -111,6 +183,21 @@ double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback) 
   int i;
   if (pnh.getParam(name, i)) return i;
   return fallback;
+}
+
+std::optional<std::string> param_text(ros::NodeHandle& pnh, const std::string& name) {
+  XmlRpc::XmlRpcValue v;
+  if (!pnh.getParam(name, v)) return std::nullopt;
+  char b[40];
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeString: return static_cast<std::string>(v);
+    case XmlRpc::XmlRpcValue::TypeInt: return std::to_string(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      std::snprintf(b, sizeof b, "%.17g", static_cast<double>(v));
+      return std::string(b);
+    case XmlRpc::XmlRpcValue::TypeBoolean: return static_cast<bool>(v) ? "true" : "false";
+    default: return "(a list or mapping)";
+  }
 }
 
 void wait_for_callbacks(double max_s) { ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(max_s)); }

@@ -11,7 +11,11 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cerrno>
 #include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace nodes {
@@ -23,33 +27,60 @@ geometry_msgs::Pose to_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& 
 void from_pose(const geometry_msgs::Pose& m, Eigen::Vector3d* p, Eigen::Quaterniond* q);
 geometry_msgs::Twist to_twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w);
 
+// A file that could not be written (disk full, a file size limit, an I/O error), named in what().
+class WriteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// "writing PATH failed: DETAIL (errno's text)", the message of a WriteError.
+std::string write_error_text(const std::string& path, const std::string& detail, int err);
+
 // Writes every message it is given (the node's own record: nothing is dropped as `rosbag record` may).
+// A write error throws WriteError naming the file, once: the bag is then abandoned (what reached the disk stays,
+// unindexed: `rosbag reindex` mends it), later writes are dropped and close() never throws, so a node can still
+// checkpoint and write its summary.
 class BagRecorder {
  public:
   BagRecorder() = default;
   ~BagRecorder() { close(); }
-  void open(const std::string& path);
+  void open(const std::string& path);  // throws WriteError
   template <class M>
   void write(const std::string& topic, const ros::Time& t, const M& m) {
     if (!open_) return;
-    bag_.write(topic, t < ros::TIME_MIN ? ros::TIME_MIN : t, m);  // a bag cannot hold time 0
+    errno = 0;
+    try {
+      bag_->write(topic, t < ros::TIME_MIN ? ros::TIME_MIN : t, m);  // a bag cannot hold time 0
+    } catch (const rosbag::BagException& e) {
+      fail(e.what(), errno);
+    }
     ++count_[topic];
   }
+  // Closes the bag (writing its index); never throws: a failure is logged and kept in error().
   void close();
-  // Closes the current bag (if any) and opens a new one: the segments of a checkpointed run.
+  // Closes the bag; a failure throws WriteError (a checkpoint must not follow a segment that is not whole).
+  void close_or_throw();
+  // Closes the current bag (if any) and opens a new one: the segments of a checkpointed run. Throws WriteError.
   void reopen(const std::string& path);
   bool is_open() const { return open_; }
   const std::map<std::string, long>& counts() const { return count_; }
+  const std::string& error() const { return error_; }  // the first write error ("" when none)
 
  private:
-  rosbag::Bag bag_;
+  [[noreturn]] void fail(const std::string& detail, int err);
+  std::unique_ptr<rosbag::Bag> bag_;
+  std::string path_, error_;
   bool open_ = false;
   std::map<std::string, long> count_;
 };
 
-// SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept. Before
-// mark_running() (the set-up: loading, packing, a warm start) there is nothing to keep: a signal ends the process
-// at once with status 128 + signal.
+// Writes `text` to `path` through a temporary file renamed into place (a reader never sees half a file; an
+// existing file is replaced only by a whole one). Returns "" or the write error's text naming the file.
+std::string write_file(const std::string& path, const std::string& text);
+
+// SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept; SIGXFSZ is
+// ignored (a file size limit is a write error, named, not a kill). Before mark_running() (the set-up: loading,
+// packing, a warm start) there is nothing to keep: a signal ends the process at once with status 128 + signal.
 void install_stop_handler();
 void mark_running();
 bool stop_requested();
@@ -58,6 +89,7 @@ std::string stop_reason();         // "stopped by a signal (SIGTERM)", "" when n
 inline int stop_exit_status() { return 128 + stop_signal(); }  // 130 for SIGINT, 143 for SIGTERM
 // An error for the log: ROS_ERROR, or stderr once ROS has shut down (rosconsole prints nothing then).
 void log_error(const std::string& msg);
+void log_warn(const std::string& msg);
 // Said when ros::ok() turns false without a signal: someone outside ended the node.
 constexpr const char* kShutdownFromOutside =
     "ROS shut the node down from outside (an XML-RPC shutdown request, e.g. rosnode kill, or a node started with "
@@ -85,6 +117,9 @@ double wall_now();
 // Reads a private parameter as string ("" when unset).
 std::string param_or(ros::NodeHandle& pnh, const std::string& name, const std::string& fallback);
 double param_or(ros::NodeHandle& pnh, const std::string& name, double fallback);
+// A private parameter as text, whatever type it arrived as (`_duration:=abc` arrives as text, `_duration:=5` as a
+// number), for core::parse_number and the like; nullopt when unset.
+std::optional<std::string> param_text(ros::NodeHandle& pnh, const std::string& name);
 // Reads a private boolean parameter (false when unset); returns false if it is set but not a boolean.
 bool bool_param(ros::NodeHandle& pnh, const std::string& name, bool* value);
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/cli_args.hpp"
 #include "nodes/ros_common.hpp"
 
 namespace nodes {
@@ -70,11 +71,8 @@ visualization_msgs::MarkerArray force_map_markers(const ros::Time& stamp, const 
 }
 
 double force_scale_N(ros::NodeHandle& pnh) {
-  const double kN = param_or(pnh, "force_scale_kN", 20.0);
-  if (!(kN > 0) || !std::isfinite(kN))
-    throw std::invalid_argument("parameter ~force_scale_kN must be a force in kN > 0 (the force map's red), got " +
-                                std::to_string(kN));
-  return kN * 1e3;
+  const auto v = param_text(pnh, "force_scale_kN");
+  return (v ? core::parse_number("parameter ~force_scale_kN", *v, 1e-3, 1e6, "kN (the force map's red)") : 20.0) * 1e3;
 }
 
 }  // namespace nodes

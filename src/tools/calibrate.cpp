@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/openmp_wait.hpp"
 #include "core/run_program.hpp"
 #include "core/units.hpp"
 #include "rocks/calibration.hpp"
@@ -345,6 +346,7 @@ int full(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  core::prefer_passive_openmp_wait(argv);  // the DEM's threads sleep while they wait (a shared machine)
   const Args a = parse(argc, argv);
   try {
     fs::create_directories(a.out);

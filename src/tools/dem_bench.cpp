@@ -33,6 +33,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
@@ -319,23 +320,18 @@ int main(int argc, char** argv) {
           throw std::invalid_argument(
               "--case accepts granular_fcc, granular_pressed, bonded_hex, crusher or all, got '" + which + "'");
       } else if (a == "--steps") {
-        steps = std::stol(next());
-        if (steps < 1) throw std::invalid_argument("--steps must be >= 1");
+        steps = core::parse_integer(a, next(), 1, 1000000000);
       } else if (a == "--threads") {
-        threads = std::stoi(next());
-        if (threads < 1) throw std::invalid_argument("--threads must be >= 1");
+        threads = static_cast<int>(core::parse_integer(a, next(), 1, 1024));
       } else if (a == "--warmup") {
-        warmup = std::stol(next());
-        if (warmup < 0) throw std::invalid_argument("--warmup must be >= 0");
+        warmup = core::parse_integer(a, next(), 0, 1000000000);
       } else if (a == "--config") {
         config = next();
       } else if (a == "--from-run") {
         from_run = next();
       } else if (a == "--nutation-deg") {
-        nutation_deg = std::stod(next());
+        nutation_deg = core::parse_number(a, next(), 0.0, 4.999);
         nutation_given = true;
-        if (!(nutation_deg >= 0 && nutation_deg < 5))
-          throw std::invalid_argument("--nutation-deg must be in [0, 5), got " + std::to_string(nutation_deg));
       } else if (a == "-h" || a == "--help") {
         std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] "
                      "[--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D]\n";

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "mbd/mechanism.hpp"
 #include "mbd/mechanism_params.hpp"
@@ -29,30 +30,36 @@ int main(int argc, char** argv) {
   double static_moment = -1, viscosity = -1, modulus = -1, rebound = -1;
   bool diag = false;
   std::string csv;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
+  try {
+    for (int i = 1; i < argc; ++i) {
+      std::string a = argv[i];
+      auto next = [&]() -> std::string {
+        if (i + 1 >= argc) {
+          usage();
+          std::exit(2);
+        }
+        return argv[++i];
+      };
+      if (a == "--config") config = next();
+      // Each number checked (core::parse_number: the flag, the value and the range it accepts).
+      else if (a == "--seconds") seconds = core::parse_number(a, next(), 0.01, 1e5, "s");
+      else if (a == "--settle") settle = core::parse_number(a, next(), 0, 1e5, "s");
+      else if (a == "--load") load = next();
+      else if (a == "--speed-rpm") rpm = core::parse_number(a, next(), 1, 5000, "rpm");
+      else if (a == "--static-moment") static_moment = core::parse_number(a, next(), 0, 1e5, "kg m");
+      else if (a == "--bed-viscosity-kPa-s") viscosity = core::parse_number(a, next(), 0, 1e9, "kPa s");
+      else if (a == "--bed-modulus-MPa") modulus = core::parse_number(a, next(), 1e-6, 1e9, "MPa");
+      else if (a == "--bed-hysteretic") rebound = core::parse_number(a, next(), 0.01, 1, "(rebound)");
+      else if (a == "--diag") diag = true;
+      else if (a == "--csv") csv = next();
+      else {
         usage();
-        std::exit(2);
+        return 2;
       }
-      return argv[++i];
-    };
-    if (a == "--config") config = next();
-    else if (a == "--seconds") seconds = std::stod(next());
-    else if (a == "--settle") settle = std::stod(next());
-    else if (a == "--load") load = next();
-    else if (a == "--speed-rpm") rpm = std::stod(next());
-    else if (a == "--static-moment") static_moment = std::stod(next());
-    else if (a == "--bed-viscosity-kPa-s") viscosity = std::stod(next());
-    else if (a == "--bed-modulus-MPa") modulus = std::stod(next());
-    else if (a == "--bed-hysteretic") rebound = std::stod(next());
-    else if (a == "--diag") diag = true;
-    else if (a == "--csv") csv = next();
-    else {
-      usage();
-      return 2;
     }
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "mbd_bench: " << e.what() << "\n";
+    return 2;
   }
   if (config.empty()) {
     usage();

@@ -9,6 +9,7 @@
 //   merge_bags --concat OUT.bag SEGMENT.bag [SEGMENT.bag ...]
 // joins a node's bag segments (a checkpointed run: run.seg<step>.bag, ...) into OUT.bag: every message of
 // every segment, in time order. OUT.bag is written through OUT.bag.part; an unreadable segment leaves it as it was.
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -57,17 +58,23 @@ int merge(const std::vector<std::string>& paths, bool concat) {
 
   const std::string part = paths[0] + ".part";
   std::map<std::string, long> count;
+  auto out = std::make_unique<rosbag::Bag>();
   try {
-    rosbag::Bag out(part, rosbag::bagmode::Write);
+    out->open(part, rosbag::bagmode::Write);
     rosbag::View view;  // one view over all bags iterates in time order
     for (std::size_t k = 0; k < in.size(); ++k)
       if (!take[k].empty()) view.addQuery(*in[k], rosbag::TopicQuery(take[k]));
     for (const rosbag::MessageInstance& m : view) {
-      out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+      out->write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
       ++count[m.getTopic()];
     }
-    out.close();
-  } catch (const std::exception& e) {
+    out->close();
+  } catch (const std::exception& e) {  // a write error (disk full, a file size limit): no abort
+    try {
+      out->close();
+    } catch (const std::exception&) {
+      (void)out.release();  // rosbag::Bag's destructor would close (and throw) again: left unfreed on the way out
+    }
     std::remove(part.c_str());
     std::cerr << "merge_bags: writing " << part << " failed (" << e.what() << "); " << paths[0]
               << " is left as it was\n";
@@ -88,6 +95,7 @@ int merge(const std::vector<std::string>& paths, bool concat) {
 #endif
 
 int main(int argc, char** argv) {
+  std::signal(SIGXFSZ, SIG_IGN);  // a file size limit (ulimit -f) is a write error, reported, not a kill
   std::vector<std::string> paths(argv + 1, argv + argc);
   const bool concat = !paths.empty() && paths[0] == "--concat";
   if (concat) paths.erase(paths.begin());

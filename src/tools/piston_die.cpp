@@ -16,6 +16,7 @@
 
 #include "chamber/piston_die.hpp"
 #include "core/cli_args.hpp"
+#include "core/openmp_wait.hpp"
 #include "core/run_program.hpp"
 
 namespace fs = std::filesystem;
@@ -199,6 +200,7 @@ int run_dem(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  core::prefer_passive_openmp_wait(argv);  // the DEM's threads sleep while they wait (a shared machine)
   const Args a = parse(argc, argv);
   try {
     fs::create_directories(a.out);

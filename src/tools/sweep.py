@@ -52,6 +52,21 @@ COLUMNS = [  # (sweep.csv column, summary.json path)
 ]
 
 
+def number(kind, lo, hi):
+    """An argparse type: a finite number of `kind` (int or float) in [lo, hi], else an error naming the value and
+    the range (issue 22: every numeric flag checked)."""
+    def parse(text):
+        try:
+            x = kind(text)
+        except ValueError:
+            x = None
+        if x is None or x != x or not lo <= x <= hi:
+            what = "a whole number" if kind is int else "a number"
+            raise argparse.ArgumentTypeError(f"{text!r}: accepted {what} in [{lo:g}, {hi:g}]")
+        return x
+    return parse
+
+
 def parse_args(argv):
     p = argparse.ArgumentParser(prog="crusher sweep", description=HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
                                 usage="crusher sweep CONFIG --vary KEY=FROM:TO:STEP [--vary KEY=...] --out DIR "
@@ -61,14 +76,15 @@ def parse_args(argv):
     p.add_argument("--vary", action="append", required=True, metavar="KEY=FROM:TO:STEP",
                    help="a key and its values (TO included when reached; or KEY=V1,V2,...); once or twice")
     p.add_argument("--out", required=True, metavar="DIR")
-    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="cases at once (local; default: cores)")
+    p.add_argument("--jobs", type=number(int, 1, 1024), default=os.cpu_count() or 1, help="cases at once (local; default: cores)")
     p.add_argument("--load", choices=["none", "bed", "flow", "dem"], help="passed to crusher run (default: the config's)")
-    p.add_argument("--duration", type=float, metavar="S", help="passed to crusher run: simulated seconds per case")
+    p.add_argument("--duration", type=number(float, 1e-3, 3600), metavar="S",
+                   help="passed to crusher run: simulated seconds per case (run.duration_s's range)")
     p.add_argument("--bag", action="store_true", help="keep each case's run.bag (removed otherwise)")
     p.add_argument("--backend", choices=["local", "slurm"], default="local")
     p.add_argument("--partition", help="slurm: the partition (default: the cluster's default)")
     p.add_argument("--time", metavar="T", help="slurm: time limit per case, as sbatch --time takes it (e.g. 2:00:00)")
-    p.add_argument("--cpus-per-case", type=int, default=1, metavar="N", help="slurm: cores per case (default 1)")
+    p.add_argument("--cpus-per-case", type=number(int, 1, 1024), default=1, metavar="N", help="slurm: cores per case (default 1)")
     p.add_argument("--no-plots", action="store_true", help="only sweep.csv (no figures, no trend checks)")
     a = p.parse_args(argv)
     if a.jobs < 1:

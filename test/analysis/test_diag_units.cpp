@@ -170,6 +170,19 @@ TEST(DiagCsv, ReadsAndRejectsWithClearErrors) {
   m = message("0,0,0,0,1,41\n");
   EXPECT_NE(m.find("header"), std::string::npos) << m;
   EXPECT_THROW(read_recording_csv("/nonexistent/rec.csv"), std::invalid_argument);
+  // Unit slips (issue 22): displacement in mm under an x_m header, power in kW under power_W, named.
+  std::string mm = head, kw = head;
+  for (int i = 0; i < 60; ++i) {
+    const double x = 5.5 * std::sin(0.3 * i);  // 5.5 mm written as if metres
+    mm += std::to_string(i * 1e-3) + "," + std::to_string(x) + ",0.002,0.0,70000,41.9\n";
+    kw += std::to_string(i * 1e-3) + ",0.001,0.002,0.0,70,41.9\n";
+  }
+  m = message(mm);
+  EXPECT_NE(m.find("x_m: half peak-to-peak"), std::string::npos) << m;
+  EXPECT_NE(m.find("millimetres given for metres?"), std::string::npos) << m;
+  m = message(kw);
+  EXPECT_NE(m.find("power_W: mean 70 W"), std::string::npos) << m;
+  EXPECT_NE(m.find("kilowatts given for watts?"), std::string::npos) << m;
 }
 
 TEST(DiagCsv, WriteReadRoundTrip) {

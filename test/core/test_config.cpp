@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -210,4 +211,29 @@ TEST(Config, The600RpmConfigDiffersFromThe400RpmOneInSpeedAndStepOnly) {
       };
   walk(c400, c600, "");
   EXPECT_EQ(differ, (std::vector<std::string>{"mbd.drive.speed_rpm", "mbd.time_step_s"}));
+}
+
+// Issue 22: a 60 MB list in a config took 7.7 GB. Oversize files and lists are refused by name before parsing.
+TEST(Config, OversizeFilesAndListsRefusedByName) {
+  std::string list = "a:\n  b: [";
+  for (int i = 0; i <= core::kMaxConfigList; ++i) list += i ? ", 1" : "1";
+  list += "]\n";
+  const auto m = message_of([&] { ConfigNode::load_string(list, "long.yaml"); });
+  EXPECT_NE(m.find("config long.yaml: 'a.b' is a list of more than 10000 elements"), std::string::npos) << m;
+  std::string ok = "a:\n  b: [";
+  for (int i = 0; i < core::kMaxConfigList; ++i) ok += i ? ", 1" : "1";
+  ok += "]\n";
+  EXPECT_EQ(ConfigNode::load_string(ok, "ok.yaml").child("a").numbers("b", 0, 2).size(), 10000u);
+
+  const std::string path = testing::TempDir() + "/big_config.yaml";
+  {
+    std::ofstream f(path);
+    f << "a: 1\n";
+    const std::string pad(1023, '#');
+    for (int i = 0; i < 1100; ++i) f << pad << "\n";  // 1.1 MB of comments
+  }
+  const auto big = message_of([&] { ConfigNode::load_file(path); });
+  EXPECT_NE(big.find("config " + path + ": "), std::string::npos) << big;
+  EXPECT_NE(big.find("bytes; accepted at most 1048576"), std::string::npos) << big;
+  std::remove(path.c_str());
 }

@@ -170,3 +170,22 @@ TEST(MbdConfig, ToolsLoadEveryShippedRunConfig) {
   }
   EXPECT_THROW(mbd::load_mechanism_params_file("/nonexistent.yaml"), core::ConfigError);
 }
+
+// Issue 22: a value inside its range but ~1000x off is refused as a unit slip, naming the likely unit.
+TEST(MbdConfig, UnitSlipsRefusedNamingTheLikelyUnit) {
+  const auto metres = error_of(replace(read_400(), "    com_z_mm: -700", "    com_z_mm: -0.7"));
+  EXPECT_NE(metres.find("mbd.fixed_cone.com_z_mm"), std::string::npos) << metres;
+  EXPECT_NE(metres.find("-700"), std::string::npos) << metres;
+  EXPECT_NE(metres.find("metres given for mm?"), std::string::npos) << metres;
+  const auto per_m = error_of(replace(read_400(), "stiffness_N_per_mm: [320, 320, 970]",
+                                      "stiffness_N_per_mm: [320000, 320000, 970000]"));
+  EXPECT_NE(per_m.find("mbd.absorbers.stiffness_N_per_mm"), std::string::npos) << per_m;
+  EXPECT_NE(per_m.find("N/m given for N/mm?"), std::string::npos) << per_m;
+  const auto tonnes = error_of(replace(read_400(), "    mass_kg: 24124.4", "    mass_kg: 24.1244"));
+  EXPECT_NE(tonnes.find("mbd.fixed_cone.mass_kg"), std::string::npos) << tonnes;
+  EXPECT_NE(tonnes.find("tonnes given for kg?"), std::string::npos) << tonnes;
+  // Inside the band, however far from the shipped value, and 0 (a point on O1): accepted.
+  EXPECT_EQ(error_of(replace(read_400(), "    com_z_mm: -700", "    com_z_mm: -15")), "");
+  EXPECT_EQ(error_of(replace(read_400(), "test_point_mm: [1000, 0, -700]", "test_point_mm: [1000, 0, 0]")), "");
+  EXPECT_EQ(error_of(replace(read_400(), "stiffness_N_per_mm: [320, 320, 970]", "stiffness_N_per_mm: [32, 32, 97000]")), "");
+}

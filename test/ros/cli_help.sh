@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Every subcommand of scripts/crusher answers --help with its usage (exit 0, the subcommand named), without
 # building or installing anything; an unknown subcommand is refused naming the accepted ones; `run --duration`
-# at or below the settle time is refused, and so is a run into an out dir that holds one (without --resume/--force).
+# at or below the settle time is refused, and so is a run into an out dir that holds one (without --resume/--force);
+# numeric flags out of range or not numbers are refused by name.
 set -euo pipefail
 crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
 for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose make-recording export config build setup env; do
@@ -16,6 +17,22 @@ grep -q "accepted: demo" <<<"$msg" || { echo "FAIL: unknown subcommand message: 
 if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" run "$CRUSHER_SOURCE_DIR/launch_free_configs/gyp1200_400rpm.yaml" \
     --duration 3 --out "$(mktemp -d)" 2>&1); then echo "FAIL: --duration 3 below settle_s 4 was accepted"; exit 1; fi
 grep -q "run.settle_s = 4" <<<"$msg" || { echo "FAIL: the duration guard does not name run.settle_s: $msg"; exit 1; }
+# Numeric flags are checked, naming the flag, the value and the range (issue 22: `--duration -1|0|abc|nan` was
+# ignored, 1e9 passed): crusher run (run.duration_s's range), the C++ tools (core::parse_number), crusher sweep.
+for bad in -1 0 abc nan 1e9; do
+  if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" run "$CRUSHER_SOURCE_DIR/launch_free_configs/gyp1200_400rpm.yaml" \
+      --duration "$bad" --out "$(mktemp -d)" 2>&1); then echo "FAIL: run --duration $bad was accepted"; exit 1; fi
+  grep -qF "run: --duration '$bad': accepted a number of seconds in [0.001,3600]" <<<"$msg" ||
+    { echo "FAIL: run --duration $bad: $msg"; exit 1; }
+done
+for tool in "mbd-bench --seconds nan" "bench --steps 0" "flow-bench --seconds abc"; do
+  read -r sub flag bad <<<"$tool"
+  if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" $sub $flag $bad 2>&1); then echo "FAIL: $sub $flag $bad was accepted"; exit 1; fi
+  grep -qE -- "$flag $bad: accepted a (whole )?number in \[" <<<"$msg" || { echo "FAIL: $sub $flag $bad: $msg"; exit 1; }
+done
+if msg=$(CRUSHER_NO_BUILD=1 bash "$crusher" sweep "$CRUSHER_SOURCE_DIR/launch_free_configs/gyp1200_400rpm.yaml" \
+    --vary mbd.drive.speed_rpm=400 --out "$(mktemp -d)" --jobs 0 2>&1); then echo "FAIL: sweep --jobs 0 was accepted"; exit 1; fi
+grep -q -- "--jobs: '0': accepted a whole number in \[1, 1024\]" <<<"$msg" || { echo "FAIL: sweep --jobs 0: $msg"; exit 1; }
 # An out dir that holds a run is not replaced silently: refused without --resume or --force, its checkpoints kept.
 held=$(mktemp -d)
 mkdir -p "$held/checkpoint" && touch "$held/summary.json" "$held/checkpoint/mbd.0000000040.ckpt"
