@@ -241,6 +241,9 @@ class MbdNode {
       if (leader_.should_resend(now)) send_geometry(step, coupling_dt);
     }
     waiting_ = false;
+    // The bag holds each completed step's state once (resends are not new samples). Recorded only now: a run
+    // stopped while waiting checkpoints at this step, and its resume sends and records it again.
+    bag_.write("/crusher/geometry_state", geom_sent_.header.stamp, geom_sent_);
     mech_->set_particle_wrench(BodyId::FloatingCone, wrench_.mantle_force, wrench_.mantle_torque);
     mech_->set_particle_wrench(BodyId::FixedCone, wrench_.concave_force, wrench_.concave_torque);
   }
@@ -258,10 +261,7 @@ class MbdNode {
     g.concave_pose = nodes::to_pose(c.position, c.orientation);
     g.concave_twist = nodes::to_twist(c.linear_velocity, c.angular_velocity);
     pub_geom_.publish(g);
-    if (step != last_recorded_step_) {  // the bag holds each step once, resends are not new samples
-      bag_.write("/crusher/geometry_state", g.header.stamp, g);
-      last_recorded_step_ = step;
-    }
+    geom_sent_ = g;  // recorded once the step is answered (exchange)
   }
 
   void on_wrench(const inertia_crusher::GeometryWrench::ConstPtr& w) {
@@ -549,7 +549,7 @@ class MbdNode {
   nodes::BagRecorder bag_;
   analysis::RunSignals sig_;
   std::optional<analysis::ProductSummary> product_;
-  std::uint64_t last_recorded_step_ = ~0ull;
+  inertia_crusher::GeometryState geom_sent_;  // the step's liner state last sent
   std::string peer_stopped_;  // dem_node's reason, when it has stopped
   bool waiting_ = false;  // inside exchange(): a step was requested and the mechanism has not moved since
   bool answered_any_ = false;  // dem_node has answered a step in this process

@@ -7,7 +7,8 @@
 # both nodes: wrenches, liner states, test point, power, product, particles), the same summary.json and break
 # log, and every coupling step exactly once. C: the same after both nodes are killed (a crash).
 # D: Ctrl-C (SIGINT to both nodes) mid-run: both checkpoint the same step (mbd_node lets the DEM finish the step
-# it is on), the resume starts there, and the joined bag holds every step once.
+# it is on), the resume starts there, and the joined bag holds every step once. E: the same with dem_node stopped
+# first (mbd_node stops while waiting for it).
 source "$(dirname "$0")/ros_env.bash"
 export OMP_WAIT_POLICY=passive CRUSHER_NO_BUILD=1 CRUSHER_BUILD_ROOT=$out/buildroot
 
@@ -50,27 +51,34 @@ run_case C --resume
 grep -h "resumed" "$out/C.log" | sed 's/\x1b\[[0-9;]*m//g'
 /usr/bin/python3 "$src/test/ros/check_resume.py" "$out/A" "$out/C"
 
-"$crusher" run "$out/case.yaml" --out "$out/D" >"$out/D.log" 2>&1 &
-stopped=$!
-for _ in $(seq 1 600); do [[ -f $out/D/checkpoint/dem.0000000040.ckpt ]] && break; sleep 0.05; done
-sleep 0.5
-pkill -INT -f "_out:=$out/D" || true
-wait "$stopped" || true
-mbd_last=$(ls "$out/D/checkpoint" | grep '^mbd' | tail -n 1); dem_last=$(ls "$out/D/checkpoint" | grep '^dem' | tail -n 1)
-echo "after Ctrl-C: $mbd_last $dem_last"
-[[ ${mbd_last#mbd} == "${dem_last#dem}" && $mbd_last != mbd.0000000040.ckpt ]] ||
-  { tail -n 20 "$out/D.log"; echo "FAIL: the nodes did not checkpoint the same step when stopped"; exit 1; }
-run_case D --resume
-/usr/bin/python3 - "$out/D/run.bag" <<'PY'
+# D: SIGINT to both nodes. E: SIGINT to dem_node alone: mbd_node learns it has stopped while waiting for the
+# step dem_node was asked for, and checkpoints that step, whose liner state it had already sent (it must be in the
+# bag once: recorded when a step is answered, not when it is sent).
+for leg in D E; do  # (not "case": run_case reads that name)
+  pattern="_out:=$out/$leg"
+  [[ $leg == E ]] && pattern="dem_node.*_out:=$out/$leg"
+  "$crusher" run "$out/case.yaml" --out "$out/$leg" >"$out/$leg.log" 2>&1 &
+  stopped=$!
+  for _ in $(seq 1 600); do [[ -f $out/$leg/checkpoint/dem.0000000040.ckpt ]] && break; sleep 0.05; done
+  sleep 0.5
+  pkill -INT -f "$pattern" || true
+  wait "$stopped" || true
+  mbd_last=$(ls "$out/$leg/checkpoint" | grep '^mbd' | tail -n 1); dem_last=$(ls "$out/$leg/checkpoint" | grep '^dem' | tail -n 1)
+  echo "$leg: after Ctrl-C: $mbd_last $dem_last"
+  [[ ${mbd_last#mbd} == "${dem_last#dem}" && $mbd_last != mbd.0000000040.ckpt ]] ||
+    { tail -n 20 "$out/$leg.log"; echo "FAIL: $leg: the nodes did not checkpoint the same step when stopped"; exit 1; }
+  run_case "$leg" --resume
+  /usr/bin/python3 - "$out/$leg/run.bag" "$leg" <<'PY'
 import sys, rosbag
 b = rosbag.Bag(sys.argv[1])
 for topic in ("/crusher/geometry_state", "/crusher/geometry_wrench"):
     steps = [m.step for _, m, _ in b.read_messages([topic])]
     if steps != list(range(120)):
-        sys.exit(f"FAIL: {topic} steps are not 0..119 exactly once after Ctrl-C and resume ({len(steps)} messages)")
+        sys.exit(f"FAIL: {sys.argv[2]}: {topic} steps are not 0..119 exactly once after Ctrl-C and resume ({len(steps)} messages)")
 p = [m for _, m, _ in b.read_messages(["/crusher/product"])][-1]
 bal = p.mass_in_chamber_kg + p.mass_discharged_kg + p.mass_lost_kg
 if abs(bal - p.mass_fed_kg) > 0.005 * p.mass_fed_kg:
     sys.exit(f"FAIL: mass balance after the resume: fed {p.mass_fed_kg} kg, accounted {bal} kg")
-print("Ctrl-C and resume: 120 coupling steps once each, mass balance closes")
+print(f"{sys.argv[2]}: Ctrl-C and resume: 120 coupling steps once each, mass balance closes")
 PY
+done
