@@ -307,12 +307,10 @@ int main(int argc, char** argv) {
   long warmup = -1;
   double nutation_deg = 0.73;
   try {
-    for (int k = 1; k < argc; ++k) {
-      const std::string a = argv[k];
-      auto next = [&]() -> std::string {
-        if (k + 1 >= argc) throw std::invalid_argument("option " + a + " needs a value");
-        return argv[++k];
-      };
+    core::CliArgs args(argc, argv);
+    while (args.next()) {
+      const std::string a = args.flag();
+      auto next = [&] { return args.value(); };
       if (a == "--case") {
         which = next();
         if (which != "granular_fcc" && which != "granular_pressed" && which != "bonded_hex" && which != "crusher" &&
@@ -320,17 +318,17 @@ int main(int argc, char** argv) {
           throw std::invalid_argument(
               "--case accepts granular_fcc, granular_pressed, bonded_hex, crusher or all, got '" + which + "'");
       } else if (a == "--steps") {
-        steps = core::parse_integer(a, next(), 1, 1000000000);
+        steps = args.integer(1, 1000000000);
       } else if (a == "--threads") {
-        threads = static_cast<int>(core::parse_integer(a, next(), 1, 1024));
+        threads = static_cast<int>(args.integer(1, 1024));
       } else if (a == "--warmup") {
-        warmup = core::parse_integer(a, next(), 0, 1000000000);
+        warmup = args.integer(0, 1000000000);
       } else if (a == "--config") {
         config = next();
       } else if (a == "--from-run") {
         from_run = next();
       } else if (a == "--nutation-deg") {
-        nutation_deg = core::parse_number(a, next(), 0.0, 4.999);
+        nutation_deg = args.number(0.0, 4.999);
         nutation_given = true;
       } else if (a == "-h" || a == "--help") {
         std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] "

@@ -11,7 +11,6 @@
 // With --columns it writes a plant-style export instead (analysis/plant_export.hpp): the mapped columns in
 // their units, delimiter and decimal separator, values rounded to --resolution, and plant habits on demand:
 // the speed logged at its set point, rows of missing values, a gap, another sample rate.
-#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <iostream>
@@ -92,10 +91,9 @@ int main(int argc, char** argv) {
       else if (a == "--set" || a == "--scale") {
         const std::string kv = str();
         const auto eq = kv.find('=');
-        char* end = nullptr;
-        const double v = eq == std::string::npos ? 0 : std::strtod(kv.c_str() + eq + 1, &end);
-        if (eq == std::string::npos || eq == 0 || !end || *end || end == kv.c_str() + eq + 1 || !std::isfinite(v))
+        if (eq == std::string::npos || eq == 0)
           throw std::invalid_argument(a + " " + kv + ": accepted KEY=NUMBER (a config key such as mbd.fixed_cone.mass_kg)");
+        const double v = core::parse_number(a + " " + kv.substr(0, eq) + " value", kv.substr(eq + 1), -1e15, 1e15);
         Term t;
         t.kind = Term::Miscalibrated;
         t.name = t.parameter = kv.substr(0, eq);

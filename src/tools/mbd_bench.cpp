@@ -31,27 +31,20 @@ int main(int argc, char** argv) {
   bool diag = false;
   std::string csv;
   try {
-    for (int i = 1; i < argc; ++i) {
-      std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc) {
-          usage();
-          std::exit(2);
-        }
-        return argv[++i];
-      };
-      if (a == "--config") config = next();
-      // Each number checked (core::parse_number: the flag, the value and the range it accepts).
-      else if (a == "--seconds") seconds = core::parse_number(a, next(), 0.01, 1e5, "s");
-      else if (a == "--settle") settle = core::parse_number(a, next(), 0, 1e5, "s");
-      else if (a == "--load") load = next();
-      else if (a == "--speed-rpm") rpm = core::parse_number(a, next(), 1, 5000, "rpm");
-      else if (a == "--static-moment") static_moment = core::parse_number(a, next(), 0, 1e5, "kg m");
-      else if (a == "--bed-viscosity-kPa-s") viscosity = core::parse_number(a, next(), 0, 1e9, "kPa s");
-      else if (a == "--bed-modulus-MPa") modulus = core::parse_number(a, next(), 1e-6, 1e9, "MPa");
-      else if (a == "--bed-hysteretic") rebound = core::parse_number(a, next(), 0.01, 1, "(rebound)");
+    core::CliArgs args(argc, argv);  // each number checked: the flag, the value and the range it accepts
+    while (args.next()) {
+      const std::string a = args.flag();
+      if (a == "--config") config = args.value();
+      else if (a == "--seconds") seconds = args.number(0.01, 1e5, "s");
+      else if (a == "--settle") settle = args.number(0, 1e5, "s");
+      else if (a == "--load") load = args.value();
+      else if (a == "--speed-rpm") rpm = args.number(1, 5000, "rpm");
+      else if (a == "--static-moment") static_moment = args.number(0, 1e5, "kg m");
+      else if (a == "--bed-viscosity-kPa-s") viscosity = args.number(0, 1e9, "kPa s");
+      else if (a == "--bed-modulus-MPa") modulus = args.number(1e-6, 1e9, "MPa");
+      else if (a == "--bed-hysteretic") rebound = args.number(0.01, 1, "(rebound)");
       else if (a == "--diag") diag = true;
-      else if (a == "--csv") csv = next();
+      else if (a == "--csv") csv = args.value();
       else {
         usage();
         return 2;
