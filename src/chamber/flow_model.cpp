@@ -76,6 +76,7 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   bed_.assign(n, mbd::CompactedBed{});
   out_.assign(classes(), 0.0);
   pass_.assign(classes(), 0.0);
+  scratch_.assign(classes(), 0.0);
 }
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
@@ -174,6 +175,41 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     count_[below] = (mb * count_[below] + moved_count) / (mb + kg);
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
   };
+  // Rock pressed past the compaction limit: kg of cell k's rock (in proportion to its classes) is broken as by one
+  // event from where its pressing started to the limit, then pushed into the cell below (out from the bottom band),
+  // keeping the limit's compaction (compaction_memory) and counting the event.
+  auto extrude = [&](std::size_t k, double kg) {
+    double* f = &mass_[k * C];
+    const double share = kg / total_[k];
+    for (std::size_t j = 0; j < C; ++j) {
+      scratch_[j] = f[j] * share;
+      f[j] -= scratch_[j];
+    }
+    total_[k] = sum_classes(k);
+    double D;
+    if (p_.compaction_memory) {
+      const double from = bed_[k].pressed ? bed_[k].c_start : bed_[k].c;
+      D = mat.max_compression - from;
+      breakage_.apply_between(from, mat.max_compression, scratch_.data());
+    } else {
+      const double e0 = std::min(memory_[k].e0, mat.max_compression);
+      D = mat.max_compression - e0;
+      breakage_.apply(D / (1.0 - e0), scratch_.data());
+    }
+    const double count = count_[k] + (D >= kCountedCompression ? 1.0 : 0.0);
+    if (k < S) {
+      for (std::size_t j = 0; j < C; ++j) out_[j] += scratch_[j];
+      out_count_ += kg * count;
+      return;
+    }
+    const std::size_t below = k - S;
+    const double mb = total_[below];
+    mbd::mix_compaction(bed_[below], mb, kg, mat.max_compression);
+    for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
+    total_[below] = sum_classes(below);
+    count_[below] = (mb * count_[below] + kg * count) / (mb + kg);
+    speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
+  };
   for (std::size_t k = 0; k < cells(); ++k) {
     const std::size_t b = k / S, s = k % S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
@@ -189,11 +225,12 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const double cap = cells_.area[b] * g * rho0_;  // loose mass the cell's space holds
     if (!prefilled_ && p_.prefill) fill(k, cap);
     double m = total_[k];
-    // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below.
+    // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below, broken as by the
+    // pressing that took it to the limit (the event the rock left behind completes later with the same ratio).
     const double m_max = cap / (1.0 - mat.max_compression);
     const bool extruded = m > m_max;
     if (extruded) {
-      send_down(k, m - m_max, nullptr, mat.max_compression);
+      extrude(k, m - m_max);
       m = m_max;
     }
     // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic

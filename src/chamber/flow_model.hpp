@@ -10,7 +10,7 @@
 //    so the compression ratio is s = 1 - A g rho0 / m (the piston-die kinematics rho = rho0 / (1 - s)). s presses
 //    the rock along the hysteretic law: virgin loading p = E (s - s0)^n, unloading recovers `rebound` of the
 //    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
-//    extruded into the cell below (out from the bottom band).
+//    extruded into the cell below (out from the bottom band), broken as by the pressing that took it to the limit.
 //  - Breakage: each completed compression event (one loading-unloading loop, ratio s = (smax - s0) / (1 - s0)) breaks
 //    every class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing
 //    energy is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
@@ -166,7 +166,7 @@ class FlowModel {
   std::vector<mbd::BedCell> memory_;     // the hysteretic law's (compaction_memory false)
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
-  std::vector<double> out_, pass_;  // discharged per class (cumulative); scratch
+  std::vector<double> out_, pass_, scratch_;  // discharged per class (cumulative); scratch
   std::vector<double> taken_;       // out_ at the last take_discharged (empty: none yet)
   double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
   long events_ = 0;
