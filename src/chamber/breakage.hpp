@@ -5,7 +5,8 @@
 // to one (mass conserved).
 //   selection  S_j(s) = 1 - exp(-(s / s_cj)^m),  s_cj = s_c (x_j / x_ref)^(-q)   (coarser classes break sooner)
 //              below the smallest size the piston-die test resolves (x_res): s_cj = s_c(x_res) (x_j / x_res)^(-q_below),
-//              q_below by default the lump strength's size effect of the ISRM point-load test, (D / 50 mm)^0.45
+//              q_below = a / n (bed_size_exponent): the lump strength's size effect a of the ISRM point-load test,
+//              (D / 50 mm)^0.45, carried through the bed's pressure law p = E s^n
 //   progeny    B(x; y) = phi (x/y)^gamma + (1 - phi) (x/y)^beta   (Austin's cumulative form, y = top of class j)
 // Classes follow ascending sieves x_0 < ... < x_{K-1}: class 0 is the pan (below x_0), class k holds
 // (x_{k-1}, x_k], class K what is above the largest sieve. x_j is the geometric mean of its bounds (pan: x_0 / 2,
@@ -14,13 +15,23 @@
 
 namespace chamber {
 
+// The lump strength's size effect, ISRM point-load test: Is50 = (D / 50 mm)^0.45 Is, so strength ~ D^-0.45.
+constexpr double kPointLoadSizeExponent = 0.45;
+
+// Size exponent of s_c of lumps in a bed: a lump of size x is loaded by the bed's pressure (contact forces ~ p x^2)
+// and fails at a force ~ strength x^2, so it breaks at a bed pressure p_c ~ strength ~ x^-a; the bed reaches p at
+// s = (p / E)^(1 / n), so s_c ~ x^(-a / n). (Not the strain to failure: a bed's compression is mostly rearrangement.)
+inline double bed_size_exponent(double strength_exponent, double pressure_exponent) {
+  return strength_exponent / pressure_exponent;
+}
+
 struct BreakageParams {
   double s_c = 0.25;      // compression ratio at which a class of size x_ref is 63 % selected
   double m = 2.0;         // selection exponent
   double q = 0.5;         // size exponent of s_c
   double x_ref = 10e-3;   // m
   double x_resolved = 0;  // m: smallest size the selection law was measured at (0: the law holds at every size)
-  double q_below = 0.45;  // size exponent of s_c below x_resolved (ISRM point-load size correction)
+  double q_below = bed_size_exponent(kPointLoadSizeExponent, 2.0);  // size exponent of s_c below x_resolved (at n = 2)
   double phi = 0.4, gamma = 0.8, beta = 3.0;  // progeny
 };
 

@@ -37,7 +37,7 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
         .number("selection.resolved_mm", "mm", u::mm, 0, 1000, [](M& m) -> double& { return m.breakage.x_resolved; },
                 "smallest size the selection law was measured at (0: it holds at every size)")
         .number("selection.size_exponent_below", "", 1, 0, 5, [](M& m) -> double& { return m.breakage.q_below; },
-                "size exponent of s_c below resolved_mm (ISRM point-load size effect 0.45)")
+                "size exponent of s_c below resolved_mm: the ISRM point-load strength's 0.45 over the pressure exponent n")
         .number("progeny.phi", "", 1, 0, 1, [](M& m) -> double& { return m.breakage.phi; },
                 "progeny: weight of the fine part")
         .number("progeny.gamma", "", 1, 0.01, 10, [](M& m) -> double& { return m.breakage.gamma; },

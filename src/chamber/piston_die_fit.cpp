@@ -52,7 +52,8 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
     if (r.feed_passing[use[i + 1]] - r.feed_passing[use[i]] >= 0.10) ++feed_classes;
   const bool fit_q = feed_classes >= 2, fit_m = r.loops.size() >= 2;
   BreakageParams b0;
-  b0.x_resolved = r.min_resolved;  // below it: q_below (breakage.hpp), not fitted here
+  b0.x_resolved = r.min_resolved;  // below it: the strength's size effect through the fitted pressure law
+  b0.q_below = bed_size_exponent(kPointLoadSizeExponent, m.material.exponent);
   auto unpack = [&](const std::vector<double>& u) {
     BreakageParams b = b0;
     std::size_t k = 0;
@@ -98,7 +99,8 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
   m.fitted.push_back("gamma");
   m.breakage_note = "breakage fitted on " + classes + "; " + (fit_q ? "" : "q, ") + (fit_m ? "" : "m, ") +
                     "beta: defaults (the resolved sizes do not constrain them); below " + fmt("%g", r.min_resolved * 1e3) +
-                    " mm s_c follows the ISRM point-load size effect, exponent " + fmt("%g", b0.q_below);
+                    " mm s_c follows the ISRM point-load size effect through the bed's pressure law, exponent 0.45 / n = " +
+                    fmt("%g", b0.q_below);
 }
 
 }  // namespace

@@ -78,14 +78,15 @@ TEST(Breakage, MatricesConserveMassAndFollowTheirFunctions) {
 }
 
 TEST(Breakage, BelowTheResolvedSizeSelectionFollowsItsOwnSizeExponent) {
-  // Above x_res the measured law s_c (x / x_ref)^-q; below it s_c(x_res) (x / x_res)^-q_below (ISRM point-load
-  // size effect, 0.45), continuous at x_res. x_resolved = 0 keeps one law for every size.
+  // Above x_res the measured law s_c (x / x_ref)^-q; below it s_c(x_res) (x / x_res)^-q_below (here 0.45),
+  // continuous at x_res. x_resolved = 0 keeps one law for every size.
   chamber::BreakageParams bp;
   bp.s_c = 1.3;
   bp.m = 6.6;
   bp.q = 1.07;
   bp.x_ref = 10e-3;
   bp.x_resolved = 22.4e-3;
+  bp.q_below = 0.45;
   const double sc_res = 1.3 * std::pow(2.24, -1.07);
   EXPECT_NEAR(chamber::critical_compression(bp, 22.4e-3), sc_res, 1e-14);
   EXPECT_NEAR(chamber::critical_compression(bp, 22.4e-3 * (1 - 1e-12)), sc_res, 1e-10);  // continuous
@@ -103,6 +104,21 @@ TEST(Breakage, BelowTheResolvedSizeSelectionFollowsItsOwnSizeExponent) {
   EXPECT_EQ(br.selection(6, 0.3), br_one.selection(6, 0.3));
   bp.q_below = -0.1;
   EXPECT_THROW(chamber::Breakage(sieves, bp), std::invalid_argument);
+}
+
+// Below the resolved size a lump in a bed breaks at a bed pressure proportional to its strength: with
+// q_below = bed_size_exponent(0.45, n), the bed pressure E s_c(x)^n at which a class is 63 % selected follows the
+// ISRM point-load size effect x^-0.45, for any pressure exponent n.
+TEST(Breakage, BelowTheResolvedSizeALumpBreaksAtABedPressureFollowingItsStrength) {
+  for (double n : {1.5, 1.9167, 3.0}) {
+    chamber::BreakageParams bp;
+    bp.s_c = 1.3, bp.m = 6.6, bp.q = 1.07, bp.x_ref = 10e-3, bp.x_resolved = 22.4e-3;
+    bp.q_below = chamber::bed_size_exponent(chamber::kPointLoadSizeExponent, n);
+    const double E = 5e6;
+    auto p_c = [&](double x) { return E * std::pow(chamber::critical_compression(bp, x), n); };
+    for (double x : {2e-3, 5e-3, 12e-3, 20e-3})
+      EXPECT_NEAR(p_c(x) / p_c(22.4e-3), std::pow(x / 22.4e-3, -0.45), 1e-12) << "n " << n << ", x " << x;
+  }
 }
 
 TEST(FlowModel, RejectsBadParametersByName) {
