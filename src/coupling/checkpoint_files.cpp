@@ -1,5 +1,7 @@
 #include "coupling/checkpoint_files.hpp"
 
+#include "core/atomic_file.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -95,7 +97,7 @@ void write_checkpoint(const std::string& out, const CheckpointHeader& h,
                       const std::function<void(core::BinaryWriter&)>& body, int keep,
                       const std::vector<std::string>& nodes) {
   fs::create_directories(checkpoint_dir(out));
-  const std::string path = checkpoint_path(out, h.node, h.step), tmp = path + ".tmp";
+  const std::string path = checkpoint_path(out, h.node, h.step);
   std::ostringstream buf(std::ios::binary);
   core::BinaryWriter w(buf);
   w.tag("ICCK");
@@ -105,21 +107,11 @@ void write_checkpoint(const std::string& out, const CheckpointHeader& h,
   w.put(h.time);
   body(w);
   w.tag("DONE");
-  const std::string bytes = buf.str();
+  std::string bytes = buf.str();
   const uint32_t crc = crc32(bytes);
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error("checkpoint: cannot write " + tmp);
-    f.write(bytes.data(), std::streamsize(bytes.size()));
-    f.write(reinterpret_cast<const char*>(&crc), sizeof crc);
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("checkpoint: writing " + tmp + " failed (disk full?)");
-    }
-  }
-  fs::rename(tmp, path);
+  bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);
+  const std::string err = core::write_file_atomically(path, bytes);
+  if (!err.empty()) throw std::runtime_error("checkpoint: " + err);
   const auto common = latest_common_checkpoint(out, nodes);
   auto steps = checkpoint_steps(out, h.node);
   for (std::size_t k = 0; k + keep < steps.size(); ++k)

@@ -9,6 +9,8 @@
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 
+#include "core/atomic_file.hpp"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cerrno>
@@ -33,8 +35,8 @@ class WriteError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// "writing PATH failed: DETAIL (errno's text)", the message of a WriteError.
-std::string write_error_text(const std::string& path, const std::string& detail, int err);
+// "writing PATH failed: DETAIL (errno's text)", the message of a WriteError (core/atomic_file.hpp).
+using core::write_error_text;
 
 // Writes every message it is given (the node's own record: nothing is dropped as `rosbag record` may).
 // A write error throws WriteError naming the file, once: the bag is then abandoned (what reached the disk stays,
@@ -74,9 +76,11 @@ class BagRecorder {
   std::map<std::string, long> count_;
 };
 
-// Writes `text` to `path` through a temporary file renamed into place (a reader never sees half a file; an
-// existing file is replaced only by a whole one). Returns "" or the write error's text naming the file.
-std::string write_file(const std::string& path, const std::string& text);
+// Writes `text` to `path` through a temporary file renamed into place (core::write_file_atomically). Returns "" or
+// the write error's text naming the file.
+inline std::string write_file(const std::string& path, const std::string& text) {
+  return core::write_file_atomically(path, text);
+}
 
 // SIGINT/SIGTERM set a flag instead of killing the node, so bags are closed and partial results kept; SIGXFSZ is
 // ignored (a file size limit is a write error, named, not a kill). Before mark_running() (the set-up: loading,
