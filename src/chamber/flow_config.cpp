@@ -10,6 +10,10 @@ namespace chamber {
 namespace u = core::units;
 using core::ConfigNode;
 
+// Plausible bands (core::Schema::plausible, issue 22): sizes in mm that are ~1000x too small were given in metres.
+// Sieves from 20 um, reference sizes from 0.1 mm, liner wear from 0.5 mm (0 is accepted: no wear).
+const char* const kMetresForMm = "metres given for mm?";
+
 const core::Schema<FlowMaterial>& flow_material_schema() {
   using M = FlowMaterial;
   static const core::Schema<FlowMaterial> s = [] {
@@ -34,8 +38,10 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
                 "size exponent of s_c")
         .number("selection.x_ref_mm", "mm", u::mm, 0.01, 1000, [](M& m) -> double& { return m.breakage.x_ref; },
                 "reference size of s_c")
+        .plausible(0.1, 1000, kMetresForMm, "")
         .number("selection.resolved_mm", "mm", u::mm, 0, 1000, [](M& m) -> double& { return m.breakage.x_resolved; },
                 "smallest size the selection law was measured at (0: it holds at every size)")
+        .plausible(0.1, 1000, kMetresForMm, "")
         .number("selection.size_exponent_below", "", 1, 0, 5, [](M& m) -> double& { return m.breakage.q_below; },
                 "size exponent of s_c below resolved_mm: the ISRM point-load strength's 0.45 over the pressure exponent n")
         .number("progeny.phi", "", 1, 0, 1, [](M& m) -> double& { return m.breakage.phi; },
@@ -77,6 +83,7 @@ const core::Schema<FlowParams>& flow_schema() {
                      if (p.sieves_m[i] <= p.sieves_m[i - 1]) n.fail(key, "sizes must be strictly ascending");
                    p.feed_passing = default_feed_passing(p.sieves_m);  // on the new sieves, unless given
                  })
+        .plausible(0.02, 1000, kMetresForMm, "")
         .numbers("feed_passing_pct", "%", 0.01, 0, 100, [](P& p) -> std::vector<double>& { return p.feed_passing; },
                  "feed passing each sieve, not falling (default: -50 mm, (x / 50 mm)^2.5)", false,
                  [](const ConfigNode& n, const std::string& key, P& p) {
@@ -100,6 +107,7 @@ const core::Schema<FlowParams>& flow_schema() {
         .number("effects.worn_liners.setting_increase_mm", "mm", u::mm, 0.0, 100.0,
                 [](P& p) -> double& { return p.effects.worn_liners.setting_increase_m; },
                 "wear depth at the discharge (main parameter; a liner is replaced after ~10-30 mm)")
+        .plausible(0.5, 100, kMetresForMm, "")
         .number("effects.worn_liners.worn_height_fraction", "", 1, 0.01, 1.0,
                 [](P& p) -> double& { return p.effects.worn_liners.worn_height_fraction; },
                 "height of the worn zone over the chamber's height, from the discharge up (wear 0 at its top)");

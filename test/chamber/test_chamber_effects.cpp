@@ -189,4 +189,31 @@ TEST(ChamberEffects, KeysLoadWithTheirUnitsAndBadValuesAreRefusedByName) {
   }
 }
 
+// Issue 22: flow sizes given in metres (inside the keys' ranges but ~1000x small) are refused as a unit slip, naming the
+// key and the likely unit; 0 (no wear, no resolved size) and small-but-real sizes (a 63 um sieve) pass.
+TEST(ChamberEffects, SizesGivenInMetresAreRefusedAsAUnitSlip) {
+  auto error_of = [](const std::string& yaml) -> std::string {
+    try {
+      chamber::load_flow_params(core::ConfigNode::load_string(yaml, "test"));
+      return "";
+    } catch (const core::ConfigError& e) {
+      return e.what();
+    }
+  };
+  const std::pair<const char*, const char*> slips[] = {
+      {"sieves_mm: [0.016, 0.0224, 0.0315, 0.05]\n", "sieves_mm"},
+      {"effects:\n  worn_liners: {enabled: true, setting_increase_mm: 0.01}\n", "setting_increase_mm"},
+      {"material:\n  selection: {x_ref_mm: 0.01}\n", "x_ref_mm"},
+      {"material:\n  selection: {resolved_mm: 0.0224}\n", "resolved_mm"},
+  };
+  for (const auto& [yaml, key] : slips) {
+    const std::string e = error_of(yaml);
+    EXPECT_NE(e.find(key), std::string::npos) << yaml << ": " << e;
+    EXPECT_NE(e.find("metres given for mm?"), std::string::npos) << yaml << ": " << e;
+  }
+  EXPECT_EQ(error_of("sieves_mm: [0.063, 1, 4, 12, 50]\n"), "");
+  EXPECT_EQ(error_of("effects:\n  worn_liners: {enabled: true, setting_increase_mm: 0}\n"), "");
+  EXPECT_EQ(error_of("material:\n  selection: {resolved_mm: 0}\n"), "");
+}
+
 }  // namespace
