@@ -108,6 +108,7 @@ class DemNode {
     ros::NodeHandle pnh("~");
     force_scale_N_ = nodes::force_scale_N(pnh);
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
+    if (!out_.empty()) cfg_.chamber.blowup_dump_path = out_ + "/dem_blowup.csv";  // a blow-up's state, in the run's folder
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
       ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f, spheres at %.0f kg/m^3", k,
