@@ -207,6 +207,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     lap(1);
     world_->step(1);
     if (!growing_.empty()) grow_fragments(h);
+    if (progress_) progress_();
     lap(0);
     for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
       deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
