@@ -6,6 +6,8 @@
 // critical force is within the tolerance, single-particle compression of the four rock shapes, and
 // DIR/bpm_calibrated.yaml for the crusher. --confirm-only: one Brazilian run with the stored model ->
 // DIR/confirmation.json (critical_force_kN, tensile_strength_MPa, critical_compression_ratio, wall_s).
+// A run that blows up leaves its DEM state in DIR/blowup_<run>.csv (doe_run_<n>, confirmation_<n>,
+// single_particle_<n>, confirmation) and the error names the run and the file.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
