@@ -252,6 +252,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   wp.dt = 1e-7;  // set below from the particles and bonds
   wp.check_time_step = true;
   wp.max_overlap_fraction = o.max_overlap_fraction;
+  wp.blowup_dump_path = o.blowup_dump_path;
   const double column = z_top + o.rock_max;
   Die die = make_die(wp, R, column, o.threads);
   dem::World& w = *die.world;

@@ -58,6 +58,9 @@ struct PistonDieOptions {
   unsigned long long seed = 1;
   int threads = 1;
   bool verbose = false;              // progress on stderr
+  // A blow-up's state dump (dem::WorldParams::blowup_dump_path): set it to a file in the run's out dir; "": an
+  // unguessable name in the temporary folder.
+  std::string blowup_dump_path;
   void validate() const;             // std::invalid_argument naming the option and what is accepted
 };
 

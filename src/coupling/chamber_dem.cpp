@@ -85,6 +85,7 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   // Time step from one bonded rock: the stiffer of Hertz (Rayleigh) and bond limits, with margin.
   dem::WorldParams wp;
   wp.threads = p_.threads;
+  wp.blowup_dump_path = p_.blowup_dump_path;
   wp.skin = 0.4 * p_.bpm.metaparticles.max_radius();  // the world starts empty: no automatic skin
   wp.materials = table4;
   double dt = p_.dt_s;
@@ -206,6 +207,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     lap(1);
     world_->step(1);
     if (!growing_.empty()) grow_fragments(h);
+    if (progress_) progress_();
     lap(0);
     for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
       deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -60,6 +61,9 @@ class ChamberDem {
   // Advances by `duration` (s) with the liners moving from the given states; returns the wrenches
   // (mantle, concave) averaged over the interval, each about its body's centre of mass.
   std::pair<BodyWrench, BodyWrench> advance(const BodyMotion& mantle, const BodyMotion& concave, double duration);
+  // Called after every DEM step inside advance() (dem_node's heartbeat to mbd_node: a sign of progress within a
+  // coupling step that takes long on a busy machine). Keep it cheap; empty: none.
+  void set_progress_hook(std::function<void()> hook) { progress_ = std::move(hook); }
 
   double time() const { return world_->time(); }
   double dt() const { return world_->dt(); }
@@ -159,6 +163,7 @@ class ChamberDem {
   };
   std::vector<Growing> growing_;  // ascending ids
   std::vector<double> stress_;     // World::contact_stress scratch (crushing.stress_criterion)
+  std::function<void()> progress_;       // set_progress_hook
   std::vector<uint64_t> pending_crush_;  // ids found crushed, removed together (crushing.batch_s); empty between advances
   double first_crush_t_ = 0;
   std::vector<double> screened_kg_;  // mass discharged per sieve class (<= sieve_m[k])

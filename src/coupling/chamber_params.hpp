@@ -58,6 +58,9 @@ struct ChamberParams {
   bool fines_flow = false;
   chamber::FlowParams fines;          // when fines_flow
   std::string bpm_file;               // config: dem.bpm_file as given ("" none: the bpm mapping); its model is in bpm
+  // Not a config key: the blow-up's state dump (dem::WorldParams::blowup_dump_path), set by the caller to a file in
+  // the run's folder (dem_node: ~out/dem_blowup.csv); "": an unguessable name in the temporary folder.
+  std::string blowup_dump_path;
 };
 
 // The keys of the `dem:` section (config_schema.hpp) but `bpm:` (rocks/bpm_config.hpp) and what the mechanism gives.

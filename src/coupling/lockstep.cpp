@@ -5,8 +5,12 @@ namespace coupling {
 std::uint64_t Leader::request(double now_s) {
   if (pending_) throw ProtocolError("coupling: step " + std::to_string(*pending_) + " is still unanswered");
   pending_ = next_++;
-  sent_at_ = last_send_ = now_s;
+  sent_at_ = last_send_ = heard_at_ = now_s;
   return *pending_;
+}
+
+void Leader::alive(std::uint64_t step, double now_s) {
+  if (pending_ && step == *pending_ && now_s > heard_at_) heard_at_ = now_s;
 }
 
 bool Leader::answer(std::uint64_t step, double now_s) {
@@ -32,9 +36,12 @@ bool Leader::should_resend(double now_s) {
 void Leader::check_timeout(double now_s) const {
   if (!pending_) return;
   double limit = completed_ == start_ ? o_.first_timeout_s : o_.timeout_s;
-  if (now_s - sent_at_ > limit) {
-    throw ProtocolError("coupling: no answer from the DEM node for step " + std::to_string(*pending_) +
-                        " within " + std::to_string(limit) + " s; is dem_node running on the same master?");
+  if (now_s - heard_at_ > limit) {
+    const bool beat = heard_at_ > sent_at_;
+    throw ProtocolError("coupling: no answer from the DEM node for step " + std::to_string(*pending_) + " within " +
+                        std::to_string(limit) + " s" +
+                        (beat ? " of its last heartbeat (it stopped making progress)" : " (and no heartbeat)") +
+                        "; is dem_node running on the same master?");
   }
 }
 

@@ -17,7 +17,9 @@ class ProtocolError : public std::runtime_error {
 };
 
 struct LeaderOptions {
-  double timeout_s = 30.0;   // no answer for this long (wall time): the peer is gone
+  // no answer and no heartbeat (alive) for this long (wall time): the peer is gone. A follower that sends heartbeats
+  // while it works may take longer than this for a step on a busy machine: the limit is on its silence.
+  double timeout_s = 30.0;
   double resend_s = 0.5;     // repeat the pending request this often (peer may start late)
   double first_timeout_s = 120.0;  // longer wait for the very first answer (peer start-up, packing)
 };
@@ -32,6 +34,10 @@ class Leader {
   // An answer arrived. Returns true when it completes the pending step; stale duplicates (an old step
   // answered twice) return false and are counted; an answer from the future throws.
   bool answer(std::uint64_t step, double now_s);
+  // The follower is working on `step` (a heartbeat it sends from inside its computation, so only while it makes
+  // progress). For the pending step the timeout starts again from now; any other step (a late heartbeat of a step
+  // answered already) changes nothing.
+  void alive(std::uint64_t step, double now_s);
   // Whether the pending request should be sent again now.
   bool should_resend(double now_s);
   // Throws ProtocolError if the peer has been silent too long.
@@ -48,7 +54,7 @@ class Leader {
   LeaderOptions o_;
   std::optional<std::uint64_t> pending_;
   std::uint64_t next_ = 0, completed_ = 0, duplicates_ = 0, start_ = 0;
-  double sent_at_ = 0, last_send_ = 0;
+  double sent_at_ = 0, last_send_ = 0, heard_at_ = 0;  // heard_at_: the last heartbeat for the pending step
 };
 
 // Follower side (dem_node).

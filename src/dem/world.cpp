@@ -4,8 +4,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -1041,27 +1043,46 @@ void World::check_blow_up(bool walls) {
   }
 }
 
-void World::write_state_csv(const std::string& path) const {
-  FILE* f = std::fopen(path.c_str(), "w");
-  if (!f) throw std::runtime_error("cannot write " + path);
+namespace {
+// The blow-up dump's rows; false if a write failed. Closes f.
+bool write_state_rows(FILE* f, const Particles& p) {
   std::fprintf(f, "id,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,r,m,material,fixed\n");
-  const Particles& p = p_;
   for (std::size_t i = 0; i < p.size(); ++i)
     std::fprintf(f, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d\n",
                  static_cast<unsigned long long>(p.id[i]), p.x[i], p.y[i], p.z[i], p.vx[i], p.vy[i], p.vz[i], p.wx[i],
                  p.wy[i], p.wz[i], p.fx[i], p.fy[i], p.fz[i], p.r[i], p.m[i], p.material[i], int(p.fixed[i]));
-  const bool ok = std::fclose(f) == 0;
-  if (!ok) throw std::runtime_error("cannot write " + path);
+  const bool ok = !std::ferror(f);
+  return std::fclose(f) == 0 && ok;
+}
+}  // namespace
+
+void World::write_state_csv(const std::string& path) const {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f || !write_state_rows(f, p_)) throw std::runtime_error("cannot write " + path);
 }
 
-// Writes the state dump and throws BlowUp naming the step, the particle and the dump.
+// Writes the state dump and throws BlowUp naming the step, the particle and the dump. Without a dump path the dump is
+// a new file of a name nobody can guess (mkstemps) in the temporary folder: a fixed name there could be a link,
+// planted by someone else, to a file the run would overwrite.
 void World::blow_up(long i, double overlap, const std::string& what) {
   std::string path = prm_.blowup_dump_path;
-  if (path.empty())
-    path = (std::filesystem::temp_directory_path() / ("dem_blowup_" + std::to_string(::getpid()) + ".csv")).string();
-  std::string dump = "state dump " + path;
+  std::string dump;
   try {
-    write_state_csv(path);
+    if (path.empty()) {
+      std::string tmpl = (std::filesystem::temp_directory_path() / "dem_blowup_XXXXXX.csv").string();
+      const int fd = ::mkstemps(tmpl.data(), 4);
+      if (fd < 0) throw std::runtime_error("cannot create " + tmpl + ": " + std::strerror(errno));
+      path = tmpl;
+      FILE* f = ::fdopen(fd, "w");
+      if (!f) {
+        ::close(fd);
+        throw std::runtime_error("cannot write " + path);
+      }
+      if (!write_state_rows(f, p_)) throw std::runtime_error("cannot write " + path);
+    } else {
+      write_state_csv(path);
+    }
+    dump = "state dump " + path;
   } catch (const std::exception& e) {
     dump = "state dump failed: " + std::string(e.what());
     path.clear();

@@ -50,7 +50,8 @@ struct WorldParams {
   // between particles: rigid liners driven from outside squeeze coarse spheres larger than the gap (the quick
   // demo's 15 mm spheres reach 0.5 r at a ~10 mm setting) without the integration failing.
   double max_mesh_overlap_fraction = 1.0;
-  // CSV state dump written before BlowUp is thrown; empty: <temp dir>/dem_blowup_<pid>.csv
+  // CSV state dump written before BlowUp is thrown: a file in the run's own folder, set by the caller. Empty: a new
+  // file of an unguessable name, <temp dir>/dem_blowup_XXXXXX.csv (mkstemps), never a fixed name there.
   std::string blowup_dump_path;
 };
 

@@ -7,10 +7,14 @@
 // ~resume (true): continue the run in ~out from the newest checkpoint both nodes wrote. With
 // run.checkpoint_every_s > 0 the state is saved at the same coupling steps as mbd_node's, and the bag is
 // written in segments dem.seg<step>.bag (scripts/crusher run joins them).
+// While it advances a coupling step it publishes the step on /crusher/dem_heartbeat (std_msgs/UInt64) every
+// heartbeat interval of wall time (a quarter of coupling.timeout_s, at most 1 s), from inside the DEM loop: mbd_node's
+// timeout then bounds the DEM's silence, not the wall time of one step on a busy machine.
 #include <inertia_crusher/ConcaveForceMap.h>
 #include <inertia_crusher/GeometryState.h>
 #include <inertia_crusher/GeometryWrench.h>
 #include <inertia_crusher/ProductStream.h>
+#include <std_msgs/UInt64.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <chrono>
@@ -108,6 +112,7 @@ class DemNode {
     ros::NodeHandle pnh("~");
     force_scale_N_ = nodes::force_scale_N(pnh);
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
+    if (!out_.empty()) cfg_.chamber.blowup_dump_path = out_ + "/dem_blowup.csv";  // a blow-up's state, in the run's folder
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
       ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f, spheres at %.0f kg/m^3", k,
@@ -135,6 +140,9 @@ class DemNode {
                cr.tensile_strength * 1e-6, cr.reference_size * 1e3,
                coupling::CrushingStrength(cr).sigma(0.01) * 1e-6, cr.size_exponent);
     pub_wrench_ = nh.advertise<inertia_crusher::GeometryWrench>("/crusher/geometry_wrench", 10);
+    pub_heartbeat_ = nh.advertise<std_msgs::UInt64>("/crusher/dem_heartbeat", 10);
+    beat_s_ = std::min(1.0, 0.25 * cfg_.coupling.timeout_s);
+    dem_->set_progress_hook([this] { heartbeat(); });
     pub_particles_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/particles", 2, true);
     pub_state_ = nh.advertise<sensor_msgs::PointCloud2>("/crusher/particle_state", 2, true);
     pub_liners_ = nh.advertise<visualization_msgs::MarkerArray>("/crusher/liners", 2, true);
@@ -257,6 +265,8 @@ class DemNode {
           break;
       }
       if (ck_steps_ && g->step % ck_steps_ == 0 && g->step != last_checkpoint_) checkpoint_and_rotate(g->step);
+      working_step_ = g->step;
+      last_beat_ = nodes::wall_now();
       auto [wm, wc] = dem_->advance(motion(g->mantle_pose, g->mantle_twist),
                                     motion(g->concave_pose, g->concave_twist), g->dt);
       last_.header.stamp = ros::Time(g->time + g->dt);
@@ -281,6 +291,16 @@ class DemNode {
     const double done = nodes::wall_now();
     busy_s_ += done - now;
     last_heard_ = done;
+  }
+
+  // Called after every DEM step of advance(): the step being worked on, to mbd_node, every beat_s_ of wall time.
+  void heartbeat() {
+    const double now = nodes::wall_now();
+    if (now - last_beat_ < beat_s_) return;
+    last_beat_ = now;
+    std_msgs::UInt64 m;
+    m.data = working_step_;
+    pub_heartbeat_.publish(m);
   }
 
   // Trajectories of a few tracked particles (section 4.2.2, Figure 20), one row per bookkeeping sample.
@@ -522,6 +542,9 @@ class DemNode {
   std::uint64_t last_checkpoint_ = 0, resume_step_ = 0;
   std::unique_ptr<coupling::ChamberDem> dem_;
   coupling::Follower follower_;
+  ros::Publisher pub_heartbeat_;
+  std::uint64_t working_step_ = 0;  // the coupling step advance() works on (heartbeat)
+  double last_beat_ = 0, beat_s_ = 1.0;
   ros::Publisher pub_wrench_, pub_particles_, pub_state_, pub_liners_, pub_product_, pub_map_, pub_map_markers_;
   ros::Subscriber sub_;
   nodes::BagRecorder bag_;

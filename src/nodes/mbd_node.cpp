@@ -15,6 +15,7 @@
 #include <inertia_crusher/ProductStream.h>
 #include <inertia_crusher/TestPoint.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/UInt64.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <chrono>
@@ -115,6 +116,10 @@ class MbdNode {
       sub_wrench_ = nh.subscribe("/crusher/geometry_wrench", 10, &MbdNode::on_wrench, this,
                                  ros::TransportHints().tcpNoDelay());
       sub_product_ = nh.subscribe("/crusher/product", 100, &MbdNode::on_product, this);
+      // dem_node's heartbeat while it works on a step: the timeout bounds its silence (coupling::Leader::alive)
+      sub_heartbeat_ = nh.subscribe<std_msgs::UInt64>(
+          "/crusher/dem_heartbeat", 10,
+          [this](const std_msgs::UInt64::ConstPtr& m) { leader_.alive(m->data, nodes::wall_now()); });
     }
     if (!out_.empty()) {
       if (!ck_steps_) {
@@ -545,7 +550,7 @@ class MbdNode {
   std::optional<chamber::ProductWindow> flow_window_;  // opened at the settle time
   coupling::Leader leader_;
   ros::Publisher pub_clock_, pub_tp_, pub_drive_, pub_tf_, pub_geom_;
-  ros::Subscriber sub_wrench_, sub_product_;
+  ros::Subscriber sub_wrench_, sub_product_, sub_heartbeat_;
   nodes::BagRecorder bag_;
   analysis::RunSignals sig_;
   std::optional<analysis::ProductSummary> product_;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "core/units.hpp"
@@ -89,6 +90,31 @@ void run_parallel(int n, int threads, const std::function<void(int)>& job, const
   for (int t = 0; t < std::max(1, threads); ++t) pool.emplace_back(worker);
   for (auto& t : pool) t.join();
   if (err) std::rethrow_exception(err);
+}
+
+SingleParticleRock single_particle_rock(const CalibrationConfig& c, const BpmModel& m, int k) {
+  if (k < 0 || k >= static_cast<int>(c.rock_sizes.size()))
+    throw std::invalid_argument("single_particle_rock: rock index " + std::to_string(k) + " out of range");
+  SingleParticleRock r;
+  r.shape = make_irregular_rock(c.rock_seed + k, c.rock_sizes[k], 22, "rock" + std::to_string(k + 1));
+  PackingOptions po = m.packing;
+  po.seed = m.packing.seed + 100 + k;
+  for (;;) {  // coarse metaparticles in a small rock may not reach the disk's density
+    try {
+      r.packing = pack_shape(*r.shape, m.metaparticles, po);
+      return r;
+    } catch (const std::runtime_error&) {
+      if (po.density < 0.46) throw;
+      po.density -= 0.03;
+    }
+  }
+}
+
+PlatenTestOptions single_particle_options(const CalibrationConfig& c) {
+  PlatenTestOptions o = c.test;
+  o.load_axis = 2;  // along the shortest axis, as a rock lies on a platen
+  o.max_compression_ratio = std::max(o.max_compression_ratio, 0.15);  // irregular rocks crush late
+  return o;
 }
 
 std::vector<int> taguchi_optimum(const std::vector<std::vector<double>>& means_fcd) {

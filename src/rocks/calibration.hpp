@@ -3,12 +3,14 @@
 // 16 Brazilian runs of the L16 array with Table 2's factors, the responses (F_cd of Eq. 27 and the
 // critical compression ratio), the Taguchi optimum and its refinement to the target force.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/config.hpp"
 #include "rocks/bpm_config.hpp"
 #include "rocks/platen_test.hpp"
+#include "rocks/shape.hpp"
 #include "rocks/taguchi.hpp"
 
 namespace rocks {
@@ -47,6 +49,17 @@ struct DoeRun {
 // Runs jobs [0, n) on `threads` worker threads (each simulation single-threaded); `done(i)` is
 // called under a lock as each job finishes.
 void run_parallel(int n, int threads, const std::function<void(int)>& job, const std::function<void(int)>& done);
+
+// Single-particle compression (section 2.4.4, Fig. 12) of rock k (0..3): the irregular rock of size rock_sizes[k]
+// (seed rock_seed + k), packed with the model's metaparticles (packing seed + 100 + k; the density lowered by 0.03
+// at a time, down to 0.44, where coarse metaparticles do not reach it in a small rock), and the test's options:
+// the calibration's, loaded along z (the shortest axis, as a rock lies on a platen) up to at least 15 % closure.
+struct SingleParticleRock {
+  std::unique_ptr<PolyhedronShape> shape;
+  RockPacking packing;
+};
+SingleParticleRock single_particle_rock(const CalibrationConfig& c, const BpmModel& m, int k);
+PlatenTestOptions single_particle_options(const CalibrationConfig& c);
 
 // Factor level (1..4) per factor minimising the marginal mean of F_cd (Taguchi "smaller is better").
 std::vector<int> taguchi_optimum(const std::vector<std::vector<double>>& means_fcd);

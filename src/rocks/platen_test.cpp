@@ -25,12 +25,16 @@ PlatenTestResult run_platen_test(const RockPacking& rock, const dem::BondParams&
     throw std::invalid_argument("run_platen_test: max_compression_ratio must be in (0, 0.5)");
   if (o.load_axis < 0 || o.load_axis > 2) throw std::invalid_argument("run_platen_test: load_axis must be 0, 1 or 2");
   if (o.record_every < 1) throw std::invalid_argument("run_platen_test: record_every must be >= 1");
+  if (!(o.max_overlap_fraction > 0.0 && o.max_overlap_fraction <= 1.0))
+    throw std::invalid_argument("run_platen_test: max_overlap_fraction must be in (0, 1]");
   bp.validate();
   const auto t0 = std::chrono::steady_clock::now();
   dem::WorldParams wp;
   wp.gravity = {0.0, 0.0, 0.0};  // 2.6 N of weight against kN of load: left out
   wp.threads = o.threads;
   wp.materials = o.materials;
+  wp.max_overlap_fraction = o.max_overlap_fraction;
+  wp.blowup_dump_path = o.blowup_dump_path;
   wp.dt = 1e-7;  // replaced below once the particles and bonds exist
   dem::World world(wp);
   const int rock_mat = 0, steel_mat = 1;

@@ -6,6 +6,8 @@
 // critical force is within the tolerance, single-particle compression of the four rock shapes, and
 // DIR/bpm_calibrated.yaml for the crusher. --confirm-only: one Brazilian run with the stored model ->
 // DIR/confirmation.json (critical_force_kN, tensile_strength_MPa, critical_compression_ratio, wall_s).
+// A run that blows up leaves its DEM state in DIR/blowup_<run>.csv (doe_run_<n>, confirmation_<n>,
+// single_particle_<n>, confirmation) and the error names the run and the file.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -100,6 +102,19 @@ void write_confirmation(const std::string& file, const PlatenTestResult& r, cons
   if (!o) throw std::runtime_error("cannot write " + file);
 }
 
+// One platen test of the calibration, named for its messages and files: a blow-up's state dump goes to
+// OUT/blowup_<name>.csv (the run's own folder, never a fixed name in the temporary folder), and any failure
+// names the run.
+PlatenTestResult platen_test(const RockPacking& rock, const dem::BondParams& bp, PlatenTestOptions o,
+                             const std::string& out, const std::string& name) {
+  o.blowup_dump_path = out + "/blowup_" + name + ".csv";
+  try {
+    return run_platen_test(rock, bp, o);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(name + ": " + e.what());
+  }
+}
+
 PlatenTestOptions test_options(const CalibrationConfig& c) {
   PlatenTestOptions o = c.test;
   o.threads = 1;  // parallelism is over runs
@@ -114,7 +129,7 @@ int confirm_only(const Args& a) {
   const RockPacking disk = pack_disk(c, m);
   PlatenTestOptions o = test_options(c);
   o.verbose = true;
-  const PlatenTestResult r = run_platen_test(disk, m.bond.params(), o);
+  const PlatenTestResult r = platen_test(disk, m.bond.params(), o, a.out, "confirmation");
   write_force_curve_csv(r, a.out + "/confirmation_curve.csv");
   write_confirmation(a.out + "/confirmation.json", r, c, seconds_since(t0));
   std::printf("confirmation: critical force %.3f kN (target %.1f kN, %+.1f %%), tensile strength %.3f MPa, "
@@ -147,7 +162,7 @@ int full(const Args& a) {
       [&](int i) {
         runs[i].row = i;
         runs[i].bond = doe_settings(c, i);
-        runs[i].result = run_platen_test(disk, runs[i].bond.params(), opt);
+        runs[i].result = platen_test(disk, runs[i].bond.params(), opt, a.out, "doe_run_" + std::to_string(i + 1));
       },
       [&](int i) {
         ++finished;
@@ -233,7 +248,7 @@ int full(const Args& a) {
   double scale = 1.0;
   for (int it = 0; it <= c.max_refinements; ++it) {
     // one thread: OpenMP barriers on an oversubscribed 2-core machine cost more than they gain
-    const PlatenTestResult r = run_platen_test(disk, cur.params(), opt);
+    const PlatenTestResult r = platen_test(disk, cur.params(), opt, a.out, "confirmation_" + std::to_string(it));
     steps.push_back({cur, scale, r});
     write_force_curve_csv(r, a.out + "/curves/confirmation_" + std::to_string(it) + ".csv");
     const double err = r.peak_force / c.target_force - 1.0;
@@ -271,28 +286,17 @@ int full(const Args& a) {
     run_parallel(
         4, a.threads,
         [&](int k) {
-          auto shape = make_irregular_rock(c.rock_seed + k, c.rock_sizes[k], 22, "rock" + std::to_string(k + 1));
-          PackingOptions po = model.packing;
-          po.seed = model.packing.seed + 100 + k;
-          RockPacking rk;
-          for (;;) {  // coarse metaparticles in a small rock may not reach the disk's density
-            try {
-              rk = pack_shape(*shape, model.metaparticles, po);
-              break;
-            } catch (const std::runtime_error&) {
-              if (po.density < 0.46) throw;
-              po.density -= 0.03;
-            }
-          }
+          const std::string name = "single_particle_" + std::to_string(k + 1);
+          const SingleParticleRock rock = single_particle_rock(c, model, k);
+          const RockPacking& rk = rock.packing;
           save_rock(rk, a.out + "/rock" + std::to_string(k + 1) + ".rock");
-          write_stl(shape->mesh(), a.out + "/rock" + std::to_string(k + 1) + ".stl", shape->name());
-          PlatenTestOptions o = opt;
-          o.load_axis = 2;  // along the shortest axis, as a rock lies on a platen
-          o.max_compression_ratio = std::max(o.max_compression_ratio, 0.15);  // irregular rocks crush late
+          write_stl(rock.shape->mesh(), a.out + "/rock" + std::to_string(k + 1) + ".stl", rock.shape->name());
+          PlatenTestOptions o = single_particle_options(c);
+          o.threads = 1;
           rock_n[k] = rk.size();
           rock_density[k] = rk.density();
-          rock_res[k] = run_platen_test(rk, model.bond.params(), o);
-          write_force_curve_csv(rock_res[k], a.out + "/curves/single_particle_" + std::to_string(k + 1) + ".csv");
+          rock_res[k] = platen_test(rk, model.bond.params(), o, a.out, name);
+          write_force_curve_csv(rock_res[k], a.out + "/curves/" + name + ".csv");
         },
         [&](int k) {
           std::fprintf(stderr, "single particle %d (%.0f mm, %zu metaparticles, density %.2f): F_c %.3f kN, ccr %.3f %%\n", k + 1,

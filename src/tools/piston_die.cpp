@@ -137,6 +137,7 @@ int run_dem(const Args& a) {
   o.threads = a.threads;
   o.seed = a.seed;
   o.verbose = true;
+  o.blowup_dump_path = a.out + "/blowup_piston_die.csv";  // the run's folder
   if (a.dt_safety > 0) o.dt_safety = a.dt_safety;
   if (a.quick) {  // a small die: minutes become seconds, the numbers are not representative
     o.die_diameter = 0.10;

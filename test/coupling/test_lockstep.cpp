@@ -79,6 +79,34 @@ TEST(Lockstep, SilentPeerTimesOutWithClearError) {
   }
 }
 
+// Issue 22: on a busy machine one DEM step can take longer than timeout_s though the DEM is working. Heartbeats for
+// the pending step (sent from inside the DEM's advance) restart the timeout: the limit is on the follower's silence.
+TEST(Lockstep, HeartbeatsOfThePendingStepKeepASlowPeerAlive) {
+  Leader l({2.0, 0.5, 10.0});
+  l.request(0.0);
+  EXPECT_TRUE(l.answer(0, 1.0));
+  l.request(1.0);                             // step 1, limit 2 s
+  for (double t = 2.5; t < 20.0; t += 1.5) {  // the DEM needs 19 s for it, beating every 1.5 s
+    l.alive(1, t);
+    EXPECT_NO_THROW(l.check_timeout(t + 1.9)) << t;
+  }
+  EXPECT_TRUE(l.answer(1, 20.0));
+  l.request(20.0);
+  l.alive(1, 20.5);  // a late heartbeat of step 1 says nothing about step 2
+  l.alive(7, 20.5);  // nor one of a step never requested
+  EXPECT_THROW(l.check_timeout(22.1), ProtocolError);
+  l.alive(2, 21.0);
+  l.alive(2, 21.5);
+  EXPECT_NO_THROW(l.check_timeout(23.4));
+  try {  // the heartbeats stop (the DEM stalls, or is stopped): a timeout 2 s after the last one, saying so
+    l.check_timeout(23.6);
+    FAIL() << "no timeout";
+  } catch (const ProtocolError& e) {
+    EXPECT_NE(std::string(e.what()).find("no answer from the DEM node for step 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("last heartbeat"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Lockstep, ResumedPairContinuesAtTheCheckpointStep) {
   Leader l({2.0, 0.5, 10.0});
   Follower f;

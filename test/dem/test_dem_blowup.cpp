@@ -1,9 +1,11 @@
 // Numerical blow-up (DESIGN.md "Failure behaviour"): World::step stops with dem::BlowUp naming the step, the
 // particle and a CSV state dump when a contact overlap exceeds the bound or a state becomes non-finite.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -72,6 +74,34 @@ TEST(BlowUp, OverlapBeyondTheBoundStopsWithStepParticleAndDump) {
   EXPECT_EQ(L[0].rfind("id,x,y,z,vx,vy,vz,", 0), 0u) << L[0];
   EXPECT_EQ(L[1].rfind("0,0,0,0,", 0), 0u) << L[1];
   EXPECT_EQ(L[2].rfind("1,0.0011", 0), 0u) << L[2];
+}
+
+// Without a dump path the dump is a new file of an unguessable name in the temporary folder, one per blow-up (a fixed
+// name there, such as the old dem_blowup_<pid>.csv, could be a planted link to a file the run would overwrite).
+TEST(BlowUp, WithoutADumpPathEachDumpIsANewUnguessableFile) {
+  namespace fs = std::filesystem;
+  const fs::path tmp = fs::temp_directory_path();
+  const std::string fixed = (tmp / ("dem_blowup_" + std::to_string(::getpid()) + ".csv")).string();
+  std::remove(fixed.c_str());
+  std::vector<std::string> dumps;
+  for (int k = 0; k < 2; ++k) {
+    dem::World w(params(""));
+    const double r = 1e-3, a[3] = {0, 0, 0}, b[3] = {1.1 * r, 0, 0};
+    w.add_particle(a, r, 0);
+    w.add_particle(b, r, 0);
+    const dem::BlowUp e = blow_up_of(w, 5);
+    ASSERT_FALSE(e.dump_path.empty()) << e.what();
+    EXPECT_TRUE(has(e.what(), "state dump " + e.dump_path)) << e.what();
+    EXPECT_EQ(fs::path(e.dump_path).parent_path(), tmp) << e.dump_path;
+    const std::string name = fs::path(e.dump_path).filename().string();
+    EXPECT_EQ(name.rfind("dem_blowup_", 0), 0u) << name;
+    EXPECT_EQ(name.size(), std::string("dem_blowup_XXXXXX.csv").size()) << name;
+    EXPECT_EQ(lines(e.dump_path).size(), 3u);
+    dumps.push_back(e.dump_path);
+  }
+  EXPECT_NE(dumps[0], dumps[1]);
+  EXPECT_FALSE(fs::exists(fixed)) << fixed;
+  for (const auto& d : dumps) std::remove(d.c_str());
 }
 
 TEST(BlowUp, SmallOverlapRunsAndDisabledBoundIsNotChecked) {
