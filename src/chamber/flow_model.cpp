@@ -76,6 +76,28 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   bed_.assign(n, mbd::CompactedBed{});
   out_.assign(classes(), 0.0);
   pass_.assign(classes(), 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d x = cell_point(k);
+    cx_.push_back(x.x()), cy_.push_back(x.y()), cz_.push_back(x.z());
+  }
+  for (auto* v : {&xm_x_, &xm_y_, &xm_z_, &rho_, &dist_}) v->assign(n, 0.0);
+  seg_.assign(n, 0);
+}
+
+// Each cell's concave point in the mantle's liner frame, its distance to the mantle's axis and its signed distance to
+// the mantle's profile: one pass over all cells, which vectorises (the cell loop of step() reads them).
+void FlowModel::locate_cells(const Eigen::Isometry3d& T) {
+  const Eigen::Matrix3d R = T.linear();
+  const Eigen::Vector3d t = T.translation();
+  for (std::size_t k = 0; k < cells(); ++k) {
+    const double x = cx_[k], y = cy_[k], z = cz_[k];
+    const double mx = R(0, 0) * x + R(0, 1) * y + R(0, 2) * z + t.x();
+    const double my = R(1, 0) * x + R(1, 1) * y + R(1, 2) * z + t.y();
+    xm_x_[k] = mx, xm_y_[k] = my;
+    xm_z_[k] = R(2, 0) * x + R(2, 1) * y + R(2, 2) * z + t.z();
+    rho_[k] = std::sqrt(mx * mx + my * my);
+  }
+  mantle_.signed_distances(cells(), xm_z_.data(), rho_.data(), dist_.data(), seg_.data());
 }
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
@@ -174,14 +196,15 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     count_[below] = (mb * count_[below] + moved_count) / (mb + kg);
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
   };
+  locate_cells(concave_to_mantle);
   for (std::size_t k = 0; k < cells(); ++k) {
-    const std::size_t b = k / S, s = k % S;
+    const std::size_t b = k / S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
-    const Eigen::Vector3d xc = cells_.point(b, s);
-    const Eigen::Vector3d xm = concave_to_mantle * xc;
-    const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
-    Eigen::Vector2d nzr;
-    const double g = std::max(0.0, -mantle_.signed_distance(xm.z(), rho, &nzr));
+    const Eigen::Vector3d xc(cx_[k], cy_[k], cz_[k]);
+    const Eigen::Vector3d xm(xm_x_[k], xm_y_[k], xm_z_[k]);
+    const double rho = rho_[k];
+    const Eigen::Vector2d nzr = mantle_.normal_zr(seg_[k]);
+    const double g = std::max(0.0, -dist_[k]);
     const double g_before = gap_[k], p_before = pressure_[k];
     closing_[k] = prefilled_ && g < g_before;  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
