@@ -16,12 +16,9 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("flow: " + what);
 }
 
-// Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves.
-double passes(double lo, double up, double g) {
-  if (g >= up) return 1.0;
-  if (g <= lo) return 0.0;
-  return (g - lo) / (up - lo);
-}
+// Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves (all from g >= up,
+// none up to g <= lo, linearly between). Without branches, so that the loop over the classes vectorises.
+double passes(double lo, double up, double g) { return std::clamp((g - lo) / (up - lo), 0.0, 1.0); }
 }  // namespace
 
 std::vector<double> default_feed_passing(const std::vector<double>& sieves) {
@@ -287,8 +284,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const double g_next = b > 0 ? gap_[k - S] : gap_[k];
     const double* f = &mass_[k * C];
     double movable = 0;
-    for (std::size_t j = 0; j < C; ++j)
-      movable += (pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j]);
+    for (std::size_t j = 0; j < C; ++j) pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j];
+    for (std::size_t j = 0; j < C; ++j) movable += pass_[j];
     double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
       const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));
