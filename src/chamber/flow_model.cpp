@@ -19,6 +19,22 @@ void require(bool ok, const std::string& what) {
 // Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves (all from g >= up,
 // none up to g <= lo, linearly between). Without branches, so that the loop over the classes vectorises.
 double passes(double lo, double up, double g) { return std::clamp((g - lo) / (up - lo), 0.0, 1.0); }
+// Points (x, y, z) moved by T, and their distance to the new z axis: a loop that vectorises (distinct arrays;
+// -fno-math-errno for this file, CMakeLists.txt).
+void to_frame(const Eigen::Isometry3d& T, std::size_t n, const double* __restrict x, const double* __restrict y,
+              const double* __restrict z, double* __restrict mx, double* __restrict my, double* __restrict mz,
+              double* __restrict rho) {
+  const Eigen::Matrix3d& R = T.linear();
+  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2);
+  const double r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
+  const double tx = T.translation().x(), ty = T.translation().y(), tz = T.translation().z();
+  for (std::size_t k = 0; k < n; ++k) {
+    mx[k] = r00 * x[k] + r01 * y[k] + r02 * z[k] + tx;
+    my[k] = r10 * x[k] + r11 * y[k] + r12 * z[k] + ty;
+    mz[k] = r20 * x[k] + r21 * y[k] + r22 * z[k] + tz;
+    rho[k] = std::sqrt(mx[k] * mx[k] + my[k] * my[k]);
+  }
+}
 }  // namespace
 
 std::vector<double> default_feed_passing(const std::vector<double>& sieves) {
@@ -84,17 +100,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
 // Each cell's concave point in the mantle's liner frame, its distance to the mantle's axis and its signed distance to
 // the mantle's profile: one pass over all cells, which vectorises (the cell loop of step() reads them).
 void FlowModel::locate_cells(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d R = T.linear();
-  const Eigen::Vector3d t = T.translation();
-  for (std::size_t k = 0; k < cells(); ++k) {
-    const double x = cx_[k], y = cy_[k], z = cz_[k];
-    const double mx = R(0, 0) * x + R(0, 1) * y + R(0, 2) * z + t.x();
-    const double my = R(1, 0) * x + R(1, 1) * y + R(1, 2) * z + t.y();
-    xm_x_[k] = mx, xm_y_[k] = my;
-    xm_z_[k] = R(2, 0) * x + R(2, 1) * y + R(2, 2) * z + t.z();
-    rho_[k] = std::sqrt(mx * mx + my * my);
-  }
-  mantle_.signed_distances(cells(), xm_z_.data(), rho_.data(), dist_.data(), seg_.data());
+  const std::size_t n = cells();
+  to_frame(T, n, cx_.data(), cy_.data(), cz_.data(), xm_x_.data(), xm_y_.data(), xm_z_.data(), rho_.data());
+  mantle_.signed_distances(n, xm_z_.data(), rho_.data(), dist_.data(), seg_.data());
 }
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
