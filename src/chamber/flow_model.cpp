@@ -16,11 +16,24 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("flow: " + what);
 }
 
-// Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves.
-double passes(double lo, double up, double g) {
-  if (g >= up) return 1.0;
-  if (g <= lo) return 0.0;
-  return (g - lo) / (up - lo);
+// Share of a class (bounds lo, up) that passes a gap g: lumps fit through a gap wider than themselves (all from g >= up,
+// none up to g <= lo, linearly between). Without branches, so that the loop over the classes vectorises.
+double passes(double lo, double up, double g) { return std::clamp((g - lo) / (up - lo), 0.0, 1.0); }
+// Points (x, y, z) moved by T, and their distance to the new z axis: a loop that vectorises (distinct arrays;
+// -fno-math-errno for this file, CMakeLists.txt).
+void to_frame(const Eigen::Isometry3d& T, std::size_t n, const double* __restrict x, const double* __restrict y,
+              const double* __restrict z, double* __restrict mx, double* __restrict my, double* __restrict mz,
+              double* __restrict rho) {
+  const Eigen::Matrix3d& R = T.linear();
+  const double r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2);
+  const double r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2);
+  const double tx = T.translation().x(), ty = T.translation().y(), tz = T.translation().z();
+  for (std::size_t k = 0; k < n; ++k) {
+    mx[k] = r00 * x[k] + r01 * y[k] + r02 * z[k] + tx;
+    my[k] = r10 * x[k] + r11 * y[k] + r12 * z[k] + ty;
+    mz[k] = r20 * x[k] + r21 * y[k] + r22 * z[k] + tz;
+    rho[k] = std::sqrt(mx[k] * mx[k] + my[k] * my[k]);
+  }
 }
 }  // namespace
 
@@ -77,6 +90,20 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   out_.assign(classes(), 0.0);
   pass_.assign(classes(), 0.0);
   scratch_.assign(classes(), 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d x = cell_point(k);
+    cx_.push_back(x.x()), cy_.push_back(x.y()), cz_.push_back(x.z());
+  }
+  for (auto* v : {&xm_x_, &xm_y_, &xm_z_, &rho_, &dist_}) v->assign(n, 0.0);
+  seg_.assign(n, 0);
+}
+
+// Each cell's concave point in the mantle's liner frame, its distance to the mantle's axis and its signed distance to
+// the mantle's profile: one pass over all cells, which vectorises (the cell loop of step() reads them).
+void FlowModel::locate_cells(const Eigen::Isometry3d& T) {
+  const std::size_t n = cells();
+  to_frame(T, n, cx_.data(), cy_.data(), cz_.data(), xm_x_.data(), xm_y_.data(), xm_z_.data(), rho_.data());
+  mantle_.signed_distances(n, xm_z_.data(), rho_.data(), dist_.data(), seg_.data());
 }
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
@@ -210,14 +237,15 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     count_[below] = (mb * count_[below] + kg * count) / (mb + kg);
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
   };
+  locate_cells(concave_to_mantle);
   for (std::size_t k = 0; k < cells(); ++k) {
-    const std::size_t b = k / S, s = k % S;
+    const std::size_t b = k / S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
-    const Eigen::Vector3d xc = cells_.point(b, s);
-    const Eigen::Vector3d xm = concave_to_mantle * xc;
-    const double rho = std::sqrt(xm.x() * xm.x() + xm.y() * xm.y());
-    Eigen::Vector2d nzr;
-    const double g = std::max(0.0, -mantle_.signed_distance(xm.z(), rho, &nzr));
+    const Eigen::Vector3d xc(cx_[k], cy_[k], cz_[k]);
+    const Eigen::Vector3d xm(xm_x_[k], xm_y_[k], xm_z_[k]);
+    const double rho = rho_[k];
+    const Eigen::Vector2d nzr = mantle_.normal_zr(seg_[k]);
+    const double g = std::max(0.0, -dist_[k]);
     const double g_before = gap_[k], p_before = pressure_[k];
     closing_[k] = prefilled_ && g < g_before;  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
@@ -301,8 +329,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const double g_next = b > 0 ? gap_[k - S] : gap_[k];
     const double* f = &mass_[k * C];
     double movable = 0;
-    for (std::size_t j = 0; j < C; ++j)
-      movable += (pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j]);
+    for (std::size_t j = 0; j < C; ++j) pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j];
+    for (std::size_t j = 0; j < C; ++j) movable += pass_[j];
     double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
       const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));

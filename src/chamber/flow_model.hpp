@@ -167,11 +167,17 @@ class FlowModel {
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
   std::vector<double> out_, pass_, scratch_;  // discharged per class (cumulative); scratch
+  std::vector<double> cx_, cy_, cz_;  // the cells' concave points (concave liner frame)
+  // Per step (locate_cells): the cells' points in the mantle's liner frame, their distance to the mantle's axis and
+  // signed distance to the mantle's profile, the closest segment of the profile.
+  std::vector<double> xm_x_, xm_y_, xm_z_, rho_, dist_;
+  std::vector<int> seg_;
   std::vector<double> taken_;       // out_ at the last take_discharged (empty: none yet)
   double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
   long events_ = 0;
   bool prefilled_ = false;
 
+  void locate_cells(const Eigen::Isometry3d& concave_to_mantle);
   void move(std::size_t from, double* to, double kg, const double* class_share, double* to_count);
   void fill(std::size_t k, double kg);  // loose feed
   double sum_classes(std::size_t k) const;

@@ -115,6 +115,40 @@ double ProfileDistance::signed_distance(double z, double r, Eigen::Vector2d* nzr
   return side >= 0 ? d : -d;
 }
 
+void ProfileDistance::signed_distances(std::size_t n, const double* z, const double* r, double* d, int* seg) const {
+  constexpr std::size_t kBlock = 64;  // points per block: the best so far stays on the stack
+  double best[kBlock], side[kBlock], end[kBlock], root[kBlock], ib[kBlock];
+  for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
+    const std::size_t m = std::min(kBlock, n - k0);
+    const double *zk = z + k0, *rk = r + k0;
+    for (std::size_t j = 0; j < m; ++j) best[j] = std::numeric_limits<double>::infinity(), side[j] = end[j] = ib[j] = 0;
+    for (std::size_t i = 0; i < segs_.size(); ++i) {  // as signed_distance, without branches (& not &&: no jumps)
+      const Seg s = segs_[i];
+      const double si = static_cast<double>(i);
+      for (std::size_t j = 0; j < m; ++j) {
+        const double t = ((zk[j] - s.az) * s.dz + (rk[j] - s.ar) * s.dr) * s.inv_len2;
+        const bool inner = (t > 0.0) & (t < 1.0);
+        const double tc = t <= 0.0 ? 0.0 : 1.0;
+        const double ez = s.az + tc * s.dz - zk[j], er = s.ar + tc * s.dr - rk[j];
+        const double sd_in = (s.az - zk[j]) * s.nz + (s.ar - rk[j]) * s.nr, sd_end = ez * s.nz + er * s.nr;
+        const double d2_in = sd_in * sd_in, d2_end = ez * ez + er * er;  // both, then a select: no jumps
+        const double d2 = inner ? d2_in : d2_end, sd = inner ? sd_in : sd_end;
+        const bool closer = d2 < best[j];
+        best[j] = closer ? d2 : best[j];
+        side[j] = closer ? sd : side[j];
+        end[j] = closer ? (inner ? 0.0 : 1.0) : end[j];
+        ib[j] = closer ? si : ib[j];
+      }
+    }
+    for (std::size_t j = 0; j < m; ++j) root[j] = std::sqrt(best[j]);  // vectorises (-fno-math-errno, CMakeLists.txt)
+    for (std::size_t j = 0; j < m; ++j) {
+      const double dist = end[j] != 0.0 ? root[j] : std::fabs(side[j]);
+      d[k0 + j] = side[j] >= 0 ? dist : -dist;
+      seg[k0 + j] = static_cast<int>(ib[j]);
+    }
+  }
+}
+
 ConcaveCells concave_cells(const Profile& concave, double z_lo, double z_hi, int bands, int sectors) {
   constexpr double kPi = 3.14159265358979323846;
   ConcaveCells c;

@@ -47,6 +47,11 @@ class ProfileDistance {
  public:
   explicit ProfileDistance(const Profile& p);
   double signed_distance(double z, double r, Eigen::Vector2d* normal_zr) const;
+  // signed_distance of n points (z[i], r[i]) at once, d[i] the distance, seg[i] the closest segment (its normal:
+  // normal_zr(seg[i])). The same arithmetic point by point (results equal to round-off: the compiler may fuse its
+  // multiply-adds differently); the loop over the points vectorises (the flow model's cells, every step).
+  void signed_distances(std::size_t n, const double* z, const double* r, double* d, int* seg) const;
+  Eigen::Vector2d normal_zr(int seg) const { return {segs_[seg].nz, segs_[seg].nr}; }
 
  private:
   struct Seg {

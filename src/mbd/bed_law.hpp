@@ -27,6 +27,11 @@ inline BedPressure bed_elastic(double e, double E, double n) {
 // (continuous at emax; reloading retraces it without loss); below er the gap has opened past the rebound
 // and fresh feed fills it (e0 = emax = e). Loss per full loop: (1 - rebound) E D^(n+1) / (n + 1).
 inline BedPressure bed_hysteretic(BedCell& c, double e, double E, double n, double rebound) {
+  if (e >= c.emax && e > c.e0 && rebound > 0) {  // virgin loading: the branch below at e = emax, one power instead of two
+    c.emax = e;
+    const double D = e - c.e0, p = E * bed_power(D, n);
+    return {p, p * rebound * D / (n + 1.0)};
+  }
   if (e >= c.emax) c.emax = e;
   const double D = c.emax - c.e0, er = c.emax - rebound * D;
   if (e <= er || D <= 0) {

@@ -25,20 +25,19 @@ geometry_msgs::Pose pose_of(const Eigen::Isometry3d& T) {
   return to_pose(T.translation(), Eigen::Quaterniond(T.linear()));
 }
 
-visualization_msgs::Marker liner(const ros::Time& stamp, const std::string& ns, int id, const Eigen::Isometry3d& T,
-                                 const std::vector<Eigen::Vector3d>& tris, bool moving) {
+// A liner's marker in its liner frame (stamp and pose set per message).
+visualization_msgs::Marker liner(const std::string& ns, int id, const std::vector<Eigen::Vector3d>& tris, bool moving) {
   visualization_msgs::Marker m;
-  m.header.stamp = stamp;
   m.header.frame_id = "world";
   m.ns = ns;
   m.id = id;
   m.type = visualization_msgs::Marker::TRIANGLE_LIST;
-  m.pose = pose_of(T);
   m.scale.x = m.scale.y = m.scale.z = 1;
   m.color.r = moving ? 0.75 : 0.55;
   m.color.g = moving ? 0.55 : 0.6;
   m.color.b = moving ? 0.3 : 0.7;
   m.color.a = moving ? 1.0 : 0.35;
+  m.points.reserve(tris.size());
   for (const auto& v : tris) m.points.push_back(to_point(v));
   return m;
 }
@@ -46,9 +45,9 @@ visualization_msgs::Marker liner(const ros::Time& stamp, const std::string& ns, 
 }  // namespace
 
 FlowOutputs::FlowOutputs(ros::NodeHandle& nh, const mbd::MechanismParams& p, double window_s)
-    : mantle_tris_(triangle_list(p.chamber.mantle, dem::NormalSide::Outward)),
-      concave_tris_(triangle_list(p.chamber.concave, dem::NormalSide::Inward)),
-      window_s_(window_s) {
+    : window_s_(window_s) {
+  liners_.markers.push_back(liner("mantle", 0, triangle_list(p.chamber.mantle, dem::NormalSide::Outward), true));
+  liners_.markers.push_back(liner("concave", 1, triangle_list(p.chamber.concave, dem::NormalSide::Inward), false));
   concave_ = p.chamber.concave;
   ros::NodeHandle pnh("~");
   force_scale_N_ = force_scale_N(pnh);
@@ -100,11 +99,11 @@ void FlowOutputs::publish(const ros::Time& stamp, const mbd::Mechanism& m, const
   pub_product_.publish(p);
   bag.write("/crusher/product", stamp, p);
 
-  visualization_msgs::MarkerArray liners;
-  liners.markers.push_back(liner(stamp, "mantle", 0, m.liner_pose(mbd::BodyId::FloatingCone), mantle_tris_, true));
-  liners.markers.push_back(liner(stamp, "concave", 1, m.liner_pose(mbd::BodyId::FixedCone), concave_tris_, false));
-  latched(pub_liners_, liners);
-  bag.write("/crusher/liners", stamp, liners);
+  for (auto& mk : liners_.markers) mk.header.stamp = stamp;
+  liners_.markers[0].pose = pose_of(m.liner_pose(mbd::BodyId::FloatingCone));
+  liners_.markers[1].pose = pose_of(m.liner_pose(mbd::BodyId::FixedCone));
+  latched(pub_liners_, liners_);
+  bag.write("/crusher/liners", stamp, liners_);
 
   // Cells holding rock at their concave point, coloured by pressure on a fixed 0-10 MPa scale (blue to red).
   visualization_msgs::Marker c;

@@ -4,6 +4,7 @@
 // the concave force map (13 x 9 areas, mean over the time since the last message) on /crusher/concave_forces. All go
 // to the bag at every call; the latched display topics go to ROS while subscribed, else once a simulated second.
 #include <ros/ros.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <deque>
 #include <memory>
@@ -36,7 +37,8 @@ class FlowOutputs {
   std::unique_ptr<chamber::ConcaveForceMap> map_;  // made at the first publish (it needs the model's cells)
   std::vector<double> last_impulse_;                // the cells' normal impulse at the last map
   double last_map_t_ = 0;
-  std::vector<Eigen::Vector3d> mantle_tris_, concave_tris_;  // triangle-list vertices in each liner frame
+  // The liners' triangle lists in their liner frames, built once: a message updates only their stamp and poses.
+  visualization_msgs::MarkerArray liners_;
   double window_s_;
   double next_latch_t_ = 0;                        // simulated time the latched topics are next refreshed unheard
   static constexpr double kLatchRefresh_s = 1.0;

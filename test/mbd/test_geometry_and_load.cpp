@@ -26,6 +26,34 @@ TEST(ChamberGeometry, SignedDistanceToAConeProfile) {
   EXPECT_NEAR(c.length(), std::sqrt(2.0), 1e-12);
 }
 
+// The batch form (the flow model's cells) gives what signed_distance gives point by point (to round-off: the compiler
+// may fuse the multiply-adds of the two loops differently), with the same closest segment: points beside segments,
+// past both ends, at a kink, on both sides and more than one block of them.
+TEST(ChamberGeometry, ProfileDistancesOfManyPointsAreThoseOfEachPoint) {
+  core::Profile c;
+  c.z = {0.0, -0.3, -0.5, -1.0};
+  c.r = {0.4, 0.55, 0.9, 1.2};  // three segments, kinks at -0.3 and -0.5
+  const core::ProfileDistance pd(c);
+  std::vector<double> z, r;
+  for (int i = 0; i < 150; ++i) {  // 150 points: more than one block of 64
+    z.push_back(0.2 - 1.5 * i / 149.0);
+    r.push_back(0.3 + 1.1 * std::fmod(0.37 * i, 1.0));
+  }
+  std::vector<double> d(z.size());
+  std::vector<int> seg(z.size());
+  pd.signed_distances(z.size(), z.data(), r.data(), d.data(), seg.data());
+  int positive = 0, negative = 0;
+  for (std::size_t i = 0; i < z.size(); ++i) {
+    Eigen::Vector2d n;
+    const double one = pd.signed_distance(z[i], r[i], &n);
+    EXPECT_NEAR(d[i], one, 1e-15) << "point " << i;
+    EXPECT_EQ(pd.normal_zr(seg[i]), n) << "point " << i;
+    (one > 0 ? positive : negative) += 1;
+  }
+  EXPECT_GT(positive, 20);
+  EXPECT_GT(negative, 20);
+}
+
 TEST(ChamberGeometry, ShippedChamberHasPositiveRestGaps) {
   const auto p = test_mbd::shipped_mechanism();
   const auto& g = p.chamber;
