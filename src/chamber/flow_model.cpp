@@ -165,13 +165,12 @@ void FlowModel::add(std::size_t k, const double* share, double scale, bool keep_
   fed_ += kg;
 }
 
-// Moves kg of cell `from`'s rock, split by class_share (sums to 1 over the classes) or in proportion to its classes
-// (class_share null), into `to` (kg per class); to_count receives kg x the cell's compression count.
+// Moves kg of cell `from`'s rock, split by class_share (sums to 1 over the classes), into `to` (kg per class);
+// to_count receives kg x the cell's compression count.
 void FlowModel::move(std::size_t from, double* to, double kg, const double* class_share, double* to_count) {
   double* f = &mass_[from * classes()];
-  const double m = total_[from];
   for (std::size_t j = 0; j < classes(); ++j) {
-    const double d = std::min(f[j], class_share ? kg * class_share[j] : kg * f[j] / m);
+    const double d = std::min(f[j], kg * class_share[j]);
     f[j] -= d;
     to[j] += d;
   }
@@ -185,22 +184,29 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   const Eigen::Isometry3d to_mantle = mantle.inverse(), concave_to_mantle = to_mantle * concave;
   const std::size_t S = static_cast<std::size_t>(p_.sectors), C = classes();
   const auto& mat = p_.material;
-  // Moves kg out of cell k into the cell below (or out of the chamber from the bottom band), mixing the counts.
-  // c_moved: the compaction the moved rock keeps (0: it falls and is re-poured; extruded rock stays compacted).
-  auto send_down = [&](std::size_t k, double kg, const double* share, double c_moved) {
-    if (kg <= 0) return;
+  // Puts rock taken from cell k (kg per class in scratch_, kg x its compressions in kg_count) into the cell below, or
+  // out of the chamber from the bottom band; c_moved: the compaction it keeps (0: it falls and is re-poured).
+  auto deliver = [&](std::size_t k, double kg, double kg_count, double c_moved) {
     if (k < S) {
-      move(k, out_.data(), kg, share, &out_count_);
+      for (std::size_t j = 0; j < C; ++j) out_[j] += scratch_[j];
+      out_count_ += kg_count;
       return;
     }
     const std::size_t below = k - S;
     const double mb = total_[below];
     mbd::mix_compaction(bed_[below], mb, kg, c_moved);
-    double moved_count = 0;
-    move(k, &mass_[below * C], kg, share, &moved_count);
+    for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
     total_[below] = sum_classes(below);
-    count_[below] = (mb * count_[below] + moved_count) / (mb + kg);
+    count_[below] = (mb * count_[below] + kg_count) / (mb + kg);
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
+  };
+  // Free rock falls: kg out of cell k, split by share, into the cell below (out from the bottom band), re-poured.
+  auto send_down = [&](std::size_t k, double kg, const double* share) {
+    if (kg <= 0) return;
+    std::fill(scratch_.begin(), scratch_.end(), 0.0);
+    double moved_count = 0;
+    move(k, scratch_.data(), kg, share, &moved_count);
+    deliver(k, kg, moved_count, 0.0);
   };
   // Rock pressed past the compaction limit: kg of cell k's rock (in proportion to its classes) is broken as by one
   // event from where its pressing started to the limit, then pushed into the cell below (out from the bottom band),
@@ -223,19 +229,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       D = mat.max_compression - e0;
       breakage_.apply(D / (1.0 - e0), scratch_.data());
     }
-    const double count = count_[k] + (D >= kCountedCompression ? 1.0 : 0.0);
-    if (k < S) {
-      for (std::size_t j = 0; j < C; ++j) out_[j] += scratch_[j];
-      out_count_ += kg * count;
-      return;
-    }
-    const std::size_t below = k - S;
-    const double mb = total_[below];
-    mbd::mix_compaction(bed_[below], mb, kg, mat.max_compression);
-    for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
-    total_[below] = sum_classes(below);
-    count_[below] = (mb * count_[below] + kg * count) / (mb + kg);
-    speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
+    deliver(k, kg, kg * (count_[k] + (D >= kCountedCompression ? 1.0 : 0.0)), mat.max_compression);
   };
   locate_cells(concave_to_mantle);
   for (std::size_t k = 0; k < cells(); ++k) {
@@ -341,7 +335,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       continue;
     }
     for (std::size_t j = 0; j < C; ++j) pass_[j] /= movable;
-    send_down(k, kg, pass_.data(), 0.0);
+    send_down(k, kg, pass_.data());
   }
   // Choke feed into the free cells of the top band; a limited feed shares its rate h over their room.
   if (p_.choke_feed) {
