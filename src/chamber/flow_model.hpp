@@ -68,9 +68,17 @@ struct WornLiners {
   double setting_increase_m = 0.0;    // config: setting_increase_mm (normal wear depth at the discharge)
   double worn_height_fraction = 0.5;  // of the shared height of mantle and concave, from the bottom
 };
+// squeeze_flow: rock at the compaction limit is pressed out of the nip along both liners against their friction
+// (squeeze_flow.hpp): the cell's pressure is E s_max^n exp(2 mu J), J the integral of dx / g along the concave from
+// the discharge (or the first cell below with room) up to the cell's middle.
+struct SqueezeFlow {
+  bool enabled = false;
+  double wall_friction = 0.7;  // rock on steel, static (Table 4)
+};
 struct FlowEffects {
   FeedLimited feed_limited;
   WornLiners worn_liners;
+  SqueezeFlow squeeze_flow;
 };
 
 struct FlowParams {
@@ -159,6 +167,8 @@ class FlowModel {
   Breakage breakage_;
   double rho0_ = 0;
   core::ConcaveCells cells_;  // the cells' concave points and areas
+  std::vector<double> half_length_;  // per band: half the cells' length along the concave (m)
+  std::vector<double> squeeze_run_;  // per sector, in step(): dx / g of the squeeze path below the present band
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
