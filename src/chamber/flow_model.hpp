@@ -69,11 +69,12 @@ struct WornLiners {
   double worn_height_fraction = 0.5;  // of the shared height of mantle and concave, from the bottom
 };
 // squeeze_flow: rock at the compaction limit is pressed out of the nip along both liners against their friction
-// (squeeze_flow.hpp): the cell's pressure is E s_max^n exp(2 mu J), J the integral of dx / g along the concave from
-// the discharge (or the first cell below with room) up to the cell's middle.
+// to where it is free (squeeze_flow.hpp): a cell pressed out at gap g holds E s_max^n exp(2 mu x / g), x the escape
+// length (unknown: the diagnosis fits it; the model's cells do not resolve the path).
 struct SqueezeFlow {
   bool enabled = false;
-  double wall_friction = 0.7;  // rock on steel, static (Table 4)
+  double wall_friction = 0.7;    // rock on steel, static (Table 4)
+  double escape_length_m = 0.0;  // config: escape_length_mm
 };
 struct FlowEffects {
   FeedLimited feed_limited;
@@ -167,8 +168,6 @@ class FlowModel {
   Breakage breakage_;
   double rho0_ = 0;
   core::ConcaveCells cells_;  // the cells' concave points and areas
-  std::vector<double> half_length_;  // per band: half the cells' length along the concave (m)
-  std::vector<double> squeeze_run_;  // per sector, in step(): dx / g of the squeeze path below the present band
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
