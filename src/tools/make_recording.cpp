@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
       "  [--gap T0:LEN (seconds left out, from the start)] [--sample-hz HZ (default 1000, whole model steps)]\n"
       "  V in the unit of mbd.effects.<name>.<main parameter>: coulomb_Nm, cubic_N_per_m3, droop_rad_s_per_kNm, "
       "angle_deg, mu, efficiency;\n"
-      "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm\n";
+      "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm, escape_length_mm\n";
   std::string config, effect, out, load = "bed";
   double value = 0, seconds = 10, speed_rpm = -1, settle = 4;
   SensorErrors e;
