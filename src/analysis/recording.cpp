@@ -46,10 +46,28 @@ double Recording::mean_speed_rad_s() const {
   return speed_rad_s.empty() ? 0.0 : s / speed_rad_s.size();
 }
 
+std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list) {
+  std::array<bool, kNumChannels> out{};
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string item = list.substr(start, end - start);
+    if (item == "x") out[kX] = true;
+    else if (item == "y") out[kY] = true;
+    else if (item == "z") out[kZ] = true;
+    else
+      throw std::invalid_argument("--zero-unknown: '" + item + "' is not a displacement channel; accepted: x, y, z " +
+                                  "(comma separated, e.g. x,y,z)");
+    start = end + 1;
+  }
+  return out;
+}
+
 Recording Recording::slice(double t0, double t1) const {
   Recording out;
   out.source = source;
   out.resolution = resolution;
+  out.zero_unknown = zero_unknown;
   out.notes = notes;
   for (std::size_t i = 0; i < t_s.size(); ++i) {
     if (t_s[i] < t0 || t_s[i] >= t1) continue;

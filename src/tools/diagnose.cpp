@@ -49,6 +49,8 @@ const char* kUsage =
     "                [--columns t=COL[UNIT],x=COL[UNIT],... (a plant export; applies to every FILE)]\n"
     "                [--delimiter ,|;|tab|'|' (default ,)] [--decimal .|, (default .)]\n"
     "                [--resolution KEY=VALUE[UNIT],... (logger resolution; default: from the data)]\n"
+    "                [--zero-unknown x,y,z (displacement sensors not zeroed at the machine's rest: their\n"
+    "                 means are not compared)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
     "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n"
     "  TABLE.yaml: source, uncertainty_pct and one row per speed (src/analysis/README.md); the model is the\n"
@@ -189,6 +191,7 @@ int main(int argc, char** argv) {
   bool plots = true, whole_rpm = true;
   std::vector<double> setpoint_rpm;
   std::string columns, delimiter, decimal, resolution;
+  std::array<bool, kNumChannels> zero_unknown{};
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -207,6 +210,7 @@ int main(int argc, char** argv) {
       else if (a == "--delimiter") delimiter = value();
       else if (a == "--decimal") decimal = value();
       else if (a == "--resolution") resolution = value();
+      else if (a == "--zero-unknown") zero_unknown = parse_zero_unknown(value());
       else if (a == "--setpoint") {
         const std::string v = value();
         if (v != "whole-rpm" && v != "measured")
@@ -268,6 +272,7 @@ int main(int argc, char** argv) {
       plant.setpoint_rad_s = i < setpoint_rpm.size() ? setpoint_rpm[i] * 2.0 * M_PI / 60.0 : 0.0;
       recordings.push_back(read_any(recs[i], columns.empty() ? nullptr : &plant));
       recordings.back().resolution = plant.resolution;
+      recordings.back().zero_unknown = zero_unknown;
       for (const auto& note : recordings.back().notes) std::cerr << "diagnose: " << recs[i] << ": " << note << "\n";
     }
 
