@@ -42,6 +42,11 @@ struct Recording {
 // Throws std::invalid_argument naming a bad item and what is accepted.
 std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list);
 
+// One recording logged over several files (a logger's hourly files; diagnose --part): the parts in order, on one
+// clock, joined into one; the time between two parts stays a gap (reported in notes). Throws std::invalid_argument
+// naming the part when the parts log different channels, overlap in time or differ in sample step by over 1 %.
+Recording join_parts(const std::vector<Recording>& parts);
+
 // Any struct with the six vectors (e.g. mbd::Recording) into an analysis::Recording.
 template <class R>
 Recording from_fields(const R& r, const std::string& source) {
