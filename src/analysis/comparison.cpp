@@ -26,7 +26,7 @@ std::complex<double> shifted(const Dataset& d, const Harmonics& h, int c, int k,
 // The sensor gain (non-physical) multiplies the test-point motion channels.
 bool is_motion(int c) { return is_displacement(c) || is_acceleration(c); }
 // First compared order: an accelerometer's mean (bias, gravity) is not the mechanism's.
-int first_order(int c) { return is_acceleration(c) ? 1 : 0; }
+int first_order(const Dataset& d, int c) { return d.use[c].mean_compared ? 0 : 1; }
 bool comparable(const Dataset& d, const Harmonics& m, int c) { return d.use[c].compared && !m.C.empty(); }
 
 // Second time derivative of a uniformly sampled signal by the 5-point stencil (error O(dt^4)); the
@@ -55,7 +55,7 @@ double harmonic_sigma2(const Dataset& d, const Harmonics& m, int c, double gain)
   const double r = is_acceleration(c) ? std::pow(d.omega / m.omega, 4) : 1.0;
   const double n = d.rec.size();
   const double model = m.samples > 0 ? g * g * r * m.remainder_var * n / m.samples : 0.0;
-  const int dof = 2 * std::min(d.H[c].orders(), m.orders()) + 1 - first_order(c);
+  const int dof = 2 * std::min(d.H[c].orders(), m.orders()) + 1 - first_order(d, c);
   return d.sigma2[c] + model + n * d.use[c].quantisation_systematic / dof;
 }
 
@@ -121,6 +121,7 @@ Dataset prepare_dataset(const Recording& rec, const std::string& label, int K) {
       continue;
     }
     u.compared = true;
+    u.mean_compared = !is_acceleration(c) && !rec.zero_unknown[c];
   }
   if (!rec.has(kSpeed))
     throw std::invalid_argument(rec.source + ": " + label + " has no drive speed (a speed channel or a set "
@@ -173,7 +174,7 @@ std::array<double, kNumChannels> harmonic_rss(const Dataset& d, const ChannelHar
     const double g = is_motion(c) ? a.gain : 1.0;
     const int K = std::min(d.H[c].orders(), m[c].orders());
     double p = 0;
-    for (int k = first_order(c); k <= K; ++k) {
+    for (int k = first_order(d, c); k <= K; ++k) {
       const auto r = d.H[c].C[k] - g * shifted(d, m[c], c, k, a.tau_s);
       p += k == 0 ? std::norm(r) : 0.5 * std::norm(r);
     }
@@ -201,7 +202,7 @@ Alignment align(const Dataset& d, const ChannelHarmonics& m, bool fit_gain, bool
       if (!comparable(d, m[c], c)) continue;
       const double w = 1.0 / d.sigma2[c];
       const int K = std::min(d.H[c].orders(), m[c].orders());
-      for (int k = first_order(c); k <= K; ++k) {
+      for (int k = first_order(d, c); k <= K; ++k) {
         const auto mk = shifted(d, m[c], c, k, tau);
         const double f = k == 0 ? 1.0 : 0.5;
         num += w * f * (std::conj(mk) * d.H[c].C[k]).real();
@@ -257,8 +258,11 @@ Comparison compare(const Dataset& d, const ChannelHarmonics& m, const Alignment&
     e.compared = true;
     const double g = is_motion(c) ? a.gain : 1.0;
     const double r = is_acceleration(c) ? (d.omega / m[c].omega) * (d.omega / m[c].omega) : 1.0;
-    // An accelerometer's mean (bias) is taken from the recording: not compared.
-    const double bias = is_acceleration(c) ? d.H[c].C[0].real() : 0.0;
+    // An accelerometer's mean (bias) is taken from the recording: not compared; nor the mean of a sensor whose zero
+    // is unknown (the model's mean moved onto the recording's).
+    const double bias = is_acceleration(c)          ? d.H[c].C[0].real()
+                        : !d.use[c].mean_compared ? d.H[c].C[0].real() - g * r * m[c].C[0].real()
+                                                  : 0.0;
     const auto& y = d.rec.channel(c);
     auto& yhat = out.model_on_recording_times[c];
     yhat.resize(n);
@@ -298,7 +302,7 @@ Comparison compare(const Dataset& d, const ChannelHarmonics& m, const Alignment&
                                   : 0.0);
     e.harmonic_sigma2 = harmonic_sigma2(d, m[c], c, a.gain);
     e.chi2 = n * hp / e.harmonic_sigma2;
-    e.dof_chi2 = 2 * K + 1 - first_order(c);
+    e.dof_chi2 = 2 * K + 1 - first_order(d, c);
     num += e.rss / e.sigma2;
     den += e.tss / e.sigma2;
   }

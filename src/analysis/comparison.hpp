@@ -26,6 +26,8 @@ ChannelHarmonics model_harmonics(const Recording& model_run, int K = kFitOrders)
 // How a recording's channel enters the comparison, and its noise floor's parts.
 struct ChannelUse {
   bool compared = false;           // recorded, and a signal (not a set point)
+  // Its mean (order 0) compared: not an accelerometer's (bias, gravity) nor a sensor's of unknown zero.
+  bool mean_compared = false;
   std::string why_not;             // "not recorded", "set point" (when not compared)
   double setpoint_value = 0;       // median of a set-point channel (SI)
   double resolution = 0;           // logger resolution (SI): stated, or the smallest step in the data

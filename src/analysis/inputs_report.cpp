@@ -25,6 +25,7 @@ std::string inputs_json(const std::vector<const Dataset*>& datasets) {
       o << (first ? "" : ", ") << "\"" << kChannelNames[c] << "\": {\"use\": \""
         << (u.compared ? "compared" : u.why_not) << "\"";
       if (!u.compared && u.why_not == "set point") o << ", \"setpoint_value\": " << num(u.setpoint_value);
+      if (u.compared && is_displacement(c) && !u.mean_compared) o << ", \"mean\": \"not compared (sensor zero unknown)\"";
       o << ", \"resolution\": " << num(u.resolution) << ", \"resolution_from\": \""
         << (u.resolution_estimated ? "data" : "stated") << "\"";
       if (u.compared)
@@ -62,6 +63,7 @@ std::string inputs_markdown(const std::vector<const Dataset*>& datasets) {
       } else if (u.compared) {
         v << kChannelNames[c] << " (noise " << std::setprecision(3) << std::sqrt(d->sigma2[c]);
         if (u.resolution > 0) v << ", resolution " << u.resolution << (u.resolution_estimated ? " from data" : "");
+        if (is_displacement(c) && !u.mean_compared) v << ", zero unknown: mean not compared";
         v << ")";
         cmp += (cmp.empty() ? "" : ", ") + v.str();
       } else {

@@ -44,6 +44,9 @@ std::vector<Term> module_candidates() {
       term("flow", "feed_limited", "max_feed_tph", "t/h", 20.0, 200.0, 200.0),
       // A liner is changed after a few tens of mm of wear.
       term("flow", "worn_liners", "setting_increase_mm", "mm", 0.0, 30.0, 0.0),
+      // The nip's escape path is at most a few cells long; from ~20 mm on the friction hill is too stiff for the
+      // mechanism's explicit coupling (30 mm blows up at 400 and 600 rpm; src/chamber/README.md).
+      term("flow", "squeeze_flow", "escape_length_mm", "mm", 0.0, 15.0, 0.0),
   };
 }
 
@@ -99,12 +102,14 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
   return p;
 }
 
-std::string flow_effect_names() { return "feed_limited, worn_liners"; }
-bool is_flow_effect(const std::string& effect) { return effect == "feed_limited" || effect == "worn_liners"; }
+std::string flow_effect_names() { return "feed_limited, worn_liners, squeeze_flow"; }
+bool is_flow_effect(const std::string& effect) {
+  return effect == "feed_limited" || effect == "worn_liners" || effect == "squeeze_flow";
+}
 
 chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value) {
   chamber::FlowParams f = base;
-  f.effects.feed_limited.enabled = f.effects.worn_liners.enabled = false;
+  f.effects.feed_limited.enabled = f.effects.worn_liners.enabled = f.effects.squeeze_flow.enabled = false;
   if (effect == "feed_limited") {
     if (!(value > 0)) throw std::invalid_argument("feed_limited: max_feed_tph must be > 0, got " + std::to_string(value));
     f.effects.feed_limited.enabled = true;
@@ -114,6 +119,11 @@ chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std:
       throw std::invalid_argument("worn_liners: setting_increase_mm must be in [0, 100], got " + std::to_string(value));
     f.effects.worn_liners.enabled = true;
     f.effects.worn_liners.setting_increase_m = value * 1e-3;  // YAML: mm
+  } else if (effect == "squeeze_flow") {
+    if (!(value >= 0 && value <= 100))
+      throw std::invalid_argument("squeeze_flow: escape_length_mm must be in [0, 100], got " + std::to_string(value));
+    f.effects.squeeze_flow.enabled = true;
+    f.effects.squeeze_flow.escape_length_m = value * 1e-3;  // YAML: mm
   } else if (effect != "none" && (", " + mbd_effect_names() + ",").find(", " + effect + ",") == std::string::npos) {
     throw std::invalid_argument("unknown effect '" + effect + "'; accepted: none, " + mbd_effect_names() + ", " +
                                 flow_effect_names());

@@ -46,10 +46,66 @@ double Recording::mean_speed_rad_s() const {
   return speed_rad_s.empty() ? 0.0 : s / speed_rad_s.size();
 }
 
+std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list) {
+  std::array<bool, kNumChannels> out{};
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string item = list.substr(start, end - start);
+    if (item == "x") out[kX] = true;
+    else if (item == "y") out[kY] = true;
+    else if (item == "z") out[kZ] = true;
+    else
+      throw std::invalid_argument("--zero-unknown: '" + item + "' is not a displacement channel; accepted: x, y, z " +
+                                  "(comma separated, e.g. x,y,z)");
+    start = end + 1;
+  }
+  return out;
+}
+
+Recording join_parts(const std::vector<Recording>& parts) {
+  if (parts.empty()) throw std::invalid_argument("join_parts: no parts");
+  Recording out = parts.front();
+  check_consistent(out);
+  const double dt = out.sample_dt_s();
+  for (std::size_t i = 1; i < parts.size(); ++i) {
+    const Recording& p = parts[i];
+    check_consistent(p);
+    const std::string pair = p.source + " (part " + std::to_string(i + 1) + " of " + out.source + ")";
+    for (int c = 0; c < kNumChannels; ++c)
+      if (p.has(c) != out.has(c))
+        throw std::invalid_argument(pair + ": " + (p.has(c) ? "logs " : "lacks ") + kChannelNames[c] +
+                                    ", the first part does not: parts of one recording log the same channels");
+    if (!(p.t_s.front() > out.t_s.back())) {
+      std::ostringstream m;
+      m << pair << ": starts at t = " << p.t_s.front() << " s, before the parts before it end (" << out.t_s.back()
+        << " s): give the parts in time order, on one clock";
+      throw std::invalid_argument(m.str());
+    }
+    if (std::abs(p.sample_dt_s() - dt) > 0.01 * dt) {
+      std::ostringstream m;
+      m << pair << ": sample step " << p.sample_dt_s() << " s, the first part's " << dt
+        << " s: parts of one recording share the logger's rate";
+      throw std::invalid_argument(m.str());
+    }
+    const double gap = p.t_s.front() - out.t_s.back();
+    std::ostringstream note;
+    note << "joined part " << p.source << " after " << gap << " s" << (gap > 1.5 * dt ? " (a gap, kept)" : "");
+    out.notes.push_back(note.str());
+    for (const auto& n : p.notes) out.notes.push_back(p.source + ": " + n);
+    out.t_s.insert(out.t_s.end(), p.t_s.begin(), p.t_s.end());
+    for (int c = 0; c < kNumChannels; ++c)
+      if (p.has(c)) out.channel(c).insert(out.channel(c).end(), p.channel(c).begin(), p.channel(c).end());
+  }
+  for (std::size_t i = 1; i < parts.size(); ++i) out.source += " + " + parts[i].source;
+  return out;
+}
+
 Recording Recording::slice(double t0, double t1) const {
   Recording out;
   out.source = source;
   out.resolution = resolution;
+  out.zero_unknown = zero_unknown;
   out.notes = notes;
   for (std::size_t i = 0; i < t_s.size(); ++i) {
     if (t_s[i] < t0 || t_s[i] >= t1) continue;

@@ -22,6 +22,9 @@ struct Recording {
   std::vector<double> ax_m_s2, ay_m_s2, az_m_s2;  // test-point acceleration (plant exports only)
   // Logger resolution of each channel (SI), 0 = not stated (estimated from the data, quantisation.hpp).
   std::array<double, kNumChannels> resolution{};
+  // The sensor's zero is arbitrary (a displacement sensor not zeroed at the machine's rest): the channel's mean
+  // says nothing of the machine and is not compared (diagnose --zero-unknown).
+  std::array<bool, kNumChannels> zero_unknown{};
   std::vector<std::string> notes;  // what reading the file did (rows skipped, gaps), for the report
 
   std::size_t size() const { return t_s.size(); }
@@ -34,6 +37,15 @@ struct Recording {
   // Samples with t in [t0, t1).
   Recording slice(double t0, double t1) const;
 };
+
+// diagnose --zero-unknown: a comma-separated list of displacement channels (x, y, z) whose sensor zero is unknown.
+// Throws std::invalid_argument naming a bad item and what is accepted.
+std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list);
+
+// One recording logged over several files (a logger's hourly files; diagnose --part): the parts in order, on one
+// clock, joined into one; the time between two parts stays a gap (reported in notes). Throws std::invalid_argument
+// naming the part when the parts log different channels, overlap in time or differ in sample step by over 1 %.
+Recording join_parts(const std::vector<Recording>& parts);
 
 // Any struct with the six vectors (e.g. mbd::Recording) into an analysis::Recording.
 template <class R>

@@ -27,6 +27,8 @@ Recording apply_sensor_errors(const Recording& model, const SensorErrors& e) {
     const double g = is_displacement(c) || is_acceleration(c) ? e.gain : 1.0;
     for (double& x : v) x = g * x + s * normal(rng);
   }
+  for (int c : {kX, kY, kZ})
+    for (double& x : r.channel(c)) x += e.zero_offset_m[c - kX];
   return r;
 }
 

@@ -110,8 +110,18 @@ const core::Schema<FlowParams>& flow_schema() {
         .plausible(0.5, 100, kMetresForMm, "")
         .number("effects.worn_liners.worn_height_fraction", "", 1, 0.01, 1.0,
                 [](P& p) -> double& { return p.effects.worn_liners.worn_height_fraction; },
-                "height of the worn zone over the chamber's height, from the discharge up (wear 0 at its top)");
+                "height of the worn zone over the chamber's height, from the discharge up (wear 0 at its top)")
+        .boolean("effects.squeeze_flow.enabled", [](P& p) -> bool& { return p.effects.squeeze_flow.enabled; },
+                 "rock at the compaction limit is pressed out along the liners against their friction")
+        .number("effects.squeeze_flow.wall_friction", "", 1, 0.0, 2.0,
+                [](P& p) -> double& { return p.effects.squeeze_flow.wall_friction; },
+                "Coulomb friction of the pressed rock on both liners (rock on steel 0.7, Table 4)")
+        .number("effects.squeeze_flow.escape_length_mm", "mm", u::mm, 0.0, 100.0,
+                [](P& p) -> double& { return p.effects.squeeze_flow.escape_length_m; },
+                "path along the liners from the nip to where the pressed-out rock is free (main parameter)")
+        .plausible(0.5, 100, kMetresForMm, "");
     k.flow_style("effects.feed_limited");
+    k.flow_style("effects.squeeze_flow");
     k.flow_style("effects.worn_liners");
     return k;
   }();

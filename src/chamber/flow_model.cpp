@@ -1,4 +1,5 @@
 #include "chamber/flow_model.hpp"
+#include "chamber/squeeze_flow.hpp"
 
 #include "chamber/liner_wear.hpp"
 
@@ -73,6 +74,10 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
           "effects.worn_liners needs setting_increase_mm in [0, 100] and worn_height_fraction in (0, 1]");
   cells_ = core::concave_cells(wl.enabled ? worn_concave(concave, z_lo, z_hi, wl) : concave, z_lo, z_hi, p.bands,
                                p.sectors);
+  const auto& sf = p.effects.squeeze_flow;
+  require(!sf.enabled || (sf.wall_friction >= 0 && sf.wall_friction <= 2 && sf.escape_length_m >= 0 &&
+                          sf.escape_length_m <= 0.1),
+          "effects.squeeze_flow needs wall_friction in [0, 2] and escape_length_mm in [0, 100]");
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
@@ -255,6 +260,10 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       extrude(k, m - m_max);
       m = m_max;
     }
+    const double squeeze = extruded && p_.effects.squeeze_flow.enabled  // pressed out against the liners' friction
+                               ? squeeze_flow_factor(p_.effects.squeeze_flow.wall_friction,
+                                                     p_.effects.squeeze_flow.escape_length_m, g)
+                               : 1.0;
     // The crushing work is the liners' work on the rock, p A dg over the step (trapezoid): over a loop the hysteretic
     // law's loss (1 - rebound) E D^(n+1) / (n + 1) per loose volume, plus, at the compaction limit, the work of
     // pressing rock out of the nip.
@@ -291,6 +300,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
         breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
       }
     }
+    p *= squeeze;
     if (D > 0) {
       total_[k] = sum_classes(k);
       if (D >= kCountedCompression) count_[k] += 1, ++events_;

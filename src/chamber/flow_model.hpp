@@ -68,9 +68,18 @@ struct WornLiners {
   double setting_increase_m = 0.0;    // config: setting_increase_mm (normal wear depth at the discharge)
   double worn_height_fraction = 0.5;  // of the shared height of mantle and concave, from the bottom
 };
+// squeeze_flow: rock at the compaction limit is pressed out of the nip along both liners against their friction
+// to where it is free (squeeze_flow.hpp): a cell pressed out at gap g holds E s_max^n exp(2 mu x / g), x the escape
+// length (unknown: the diagnosis fits it; the model's cells do not resolve the path).
+struct SqueezeFlow {
+  bool enabled = false;
+  double wall_friction = 0.7;    // rock on steel, static (Table 4)
+  double escape_length_m = 0.0;  // config: escape_length_mm
+};
 struct FlowEffects {
   FeedLimited feed_limited;
   WornLiners worn_liners;
+  SqueezeFlow squeeze_flow;
 };
 
 struct FlowParams {

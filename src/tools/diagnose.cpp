@@ -49,6 +49,10 @@ const char* kUsage =
     "                [--columns t=COL[UNIT],x=COL[UNIT],... (a plant export; applies to every FILE)]\n"
     "                [--delimiter ,|;|tab|'|' (default ,)] [--decimal .|, (default .)]\n"
     "                [--resolution KEY=VALUE[UNIT],... (logger resolution; default: from the data)]\n"
+    "                [--zero-unknown x,y,z (displacement sensors not zeroed at the machine's rest: their\n"
+    "                 means are not compared)]\n"
+    "                [--part FILE (after a --recording: the same recording continued in another file, e.g.\n"
+    "                 a logger's hourly files; joined in order, the time between them kept as a gap)]\n"
     "  FILE: CSV with header t_s,x_m,y_m,z_m,power_W,speed_rad_s, or a .bag with /crusher/test_point\n"
     "  and /crusher/drive (ROS builds only). The first recording trains; the others are held out.\n"
     "  TABLE.yaml: source, uncertainty_pct and one row per speed (src/analysis/README.md); the model is the\n"
@@ -182,20 +186,25 @@ void write_overlay(const fs::path& p, const Dataset& d, const Comparison& before
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> recs;
+  std::vector<std::vector<std::string>> recs;  // each recording's files (--part adds to the last)
   std::string config, out, summary;
   double model_seconds = 3.0, settle_s = 4.0;
   bool model_seconds_given = false, settle_given = false;
   bool plots = true, whole_rpm = true;
   std::vector<double> setpoint_rpm;
   std::string columns, delimiter, decimal, resolution;
+  std::array<bool, kNumChannels> zero_unknown{};
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
       const std::string a = args.flag();
       auto value = [&] { return args.value(); };
       auto number = [&](double lo, double hi) { return args.number(lo, hi); };
-      if (a == "--recording") recs.push_back(value());
+      if (a == "--recording") recs.push_back({value()});
+      else if (a == "--part") {
+        if (recs.empty()) throw std::invalid_argument("--part FILE continues a recording: give its --recording first");
+        recs.back().push_back(value());
+      }
       else if (a == "--config") config = value();
       else if (a == "--out") out = value();
       else if (a == "--summary") summary = value();
@@ -207,6 +216,7 @@ int main(int argc, char** argv) {
       else if (a == "--delimiter") delimiter = value();
       else if (a == "--decimal") decimal = value();
       else if (a == "--resolution") resolution = value();
+      else if (a == "--zero-unknown") zero_unknown = parse_zero_unknown(value());
       else if (a == "--setpoint") {
         const std::string v = value();
         if (v != "whole-rpm" && v != "measured")
@@ -266,9 +276,13 @@ int main(int argc, char** argv) {
     std::vector<Recording> recordings;
     for (std::size_t i = 0; i < recs.size(); ++i) {
       plant.setpoint_rad_s = i < setpoint_rpm.size() ? setpoint_rpm[i] * 2.0 * M_PI / 60.0 : 0.0;
-      recordings.push_back(read_any(recs[i], columns.empty() ? nullptr : &plant));
+      std::vector<Recording> parts;
+      for (const auto& file : recs[i]) parts.push_back(read_any(file, columns.empty() ? nullptr : &plant));
+      recordings.push_back(join_parts(parts));
       recordings.back().resolution = plant.resolution;
-      for (const auto& note : recordings.back().notes) std::cerr << "diagnose: " << recs[i] << ": " << note << "\n";
+      recordings.back().zero_unknown = zero_unknown;
+      for (const auto& note : recordings.back().notes)
+        std::cerr << "diagnose: " << recordings.back().source << ": " << note << "\n";
     }
 
     MbdModelOptions mo;

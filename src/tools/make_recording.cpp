@@ -11,6 +11,7 @@
 // With --columns it writes a plant-style export instead (analysis/plant_export.hpp): the mapped columns in
 // their units, delimiter and decimal separator, values rounded to --resolution, and plant habits on demand:
 // the speed logged at its set point, rows of missing values, a gap, another sample rate.
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <iostream>
@@ -32,9 +33,9 @@ using namespace analysis;
 int main(int argc, char** argv) {
   const char* usage =
       "usage: make_recording --config BASE.yaml --effect none|joint_friction|absorber_nonlinearity|motor_droop|"
-      "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners --value V [--load bed|flow "
+      "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners|squeeze_flow --value V [--load bed|flow "
       "(default bed)] [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
-      "[--gain G (default 1)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
+      "[--gain G (default 1)] [--zero-offset-mm DX,DY,DZ (default 0,0,0)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
       "config)] [--settle-s S (default 4)] [--set KEY=V] [--scale KEY=F] (repeatable: a config value concealed,\n"
       "  KEY as in diagnosis.uncertain, e.g. mbd.fixed_cone.mass_kg, flow.material.pressure.modulus_MPa) --out FILE.csv\n"
       "  plant-style export: --columns t=COL[UNIT],x=COL[UNIT],... (keys t x y z ax ay az power speed, as in\n"
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
       "  [--gap T0:LEN (seconds left out, from the start)] [--sample-hz HZ (default 1000, whole model steps)]\n"
       "  V in the unit of mbd.effects.<name>.<main parameter>: coulomb_Nm, cubic_N_per_m3, droop_rad_s_per_kNm, "
       "angle_deg, mu, efficiency;\n"
-      "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm\n";
+      "  or of flow.effects.<name>.<main parameter> (needs --load flow): max_feed_tph, setting_increase_mm, escape_length_mm\n";
   std::string config, effect, out, load = "bed";
   double value = 0, seconds = 10, speed_rpm = -1, settle = 4;
   SensorErrors e;
@@ -66,6 +67,22 @@ int main(int argc, char** argv) {
       else if (a == "--noise-std") e.noise_rel = num(0, 10);
       else if (a == "--time-offset-s") e.time_offset_s = num(-1e4, 1e4);
       else if (a == "--gain") e.gain = num(1e-3, 1e3);
+      else if (a == "--zero-offset-mm") {
+        const std::string v = str();
+        std::size_t start = 0;
+        for (int i = 0; i < 3; ++i) {
+          const std::size_t end = std::min(v.find(',', start), v.size());
+          double d = NAN;
+          try {
+            d = std::stod(v.substr(start, end - start));
+          } catch (const std::exception&) {
+          }
+          if (!std::isfinite(d) || std::abs(d) > 1e3 || (i < 2) != (end < v.size()))
+            throw std::invalid_argument("--zero-offset-mm " + v + ": accepted three numbers in mm, DX,DY,DZ");
+          e.zero_offset_m[i] = d * 1e-3;
+          start = end + 1;
+        }
+      }
       else if (a == "--seconds") seconds = num(0.1, 3600);
       else if (a == "--seed") e.seed = static_cast<std::uint64_t>(num(0, 1e15));
       else if (a == "--speed-rpm") speed_rpm = num(1, 5000);

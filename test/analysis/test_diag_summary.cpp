@@ -121,3 +121,19 @@ TEST(SummaryDiagnosis, NamesConcealedWornLiners) {
   ASSERT_EQ(d.effect, "worn_liners") << d.reason << "\n" << summary_diagnosis_markdown(d);
   EXPECT_NEAR(d.selection.fitted.at("worn_liners"), wear, 0.15 * wear);
 }
+
+// The friction of rock pressed out of the nip (squeeze_flow, escape length 4 mm: +6 kW at 400 rpm, +24 kW at 600 on
+// the shipped model) from the summaries alone, among the mechanism's friction, the bearing's and the static moment.
+TEST(SummaryDiagnosis, NamesConcealedSqueezeFlow) {
+  FlowCase c;
+  c.terms.clear();
+  for (const auto& e : summary_candidates())
+    if (e.name == "joint_friction" || e.name == "squeeze_flow" || e.name == "bearing_friction") c.terms.push_back(e);
+  for (const auto& u : c.cfg.uncertain())
+    if (u.name == "mbd.vibrator.static_moment_kg_m") c.terms.push_back(u);
+  c.model = make_flow_summary_model(c.cfg, c.terms, 3.0, 3.0);
+  const double length = 4.0;
+  const SummaryDiagnosis d = diagnose_summary(c.plant({{"squeeze_flow", length}}), c.model, c.terms);
+  ASSERT_EQ(d.effect, "squeeze_flow") << d.reason << "\n" << summary_diagnosis_markdown(d);
+  EXPECT_NEAR(d.selection.fitted.at("squeeze_flow"), length, 0.15 * length);
+}

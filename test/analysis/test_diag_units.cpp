@@ -194,3 +194,42 @@ TEST(DiagCsv, WriteReadRoundTrip) {
   for (int c = 0; c < kAx; ++c)  // the CSV's six columns (accelerations are plant exports only)
     EXPECT_NEAR(back.channel(c)[77], r.channel(c)[77], 1e-9 * (1 + std::abs(r.channel(c)[77])));
 }
+
+// One recording over two files with 0.2 s between them (diagnose --part): joined in order, every sample kept, the
+// gap kept and reported; parts out of order, with other channels or another sample step are refused by name.
+TEST(DiagCsv, PartsOfOneRecordingJoinWithTheirGapKept) {
+  const Recording r = diagtest::synthetic_run("cardan_misalignment", 4.0, 41.9, 3.0);
+  const double t0 = r.t_s.front();
+  Recording a = r.slice(t0, t0 + 1.5), b = r.slice(t0 + 1.7, r.t_s.back() + 1);
+  const std::string pa = ::testing::TempDir() + "part_a.csv", pb = ::testing::TempDir() + "part_b.csv";
+  write_recording_csv(a, pa);
+  write_recording_csv(b, pb);
+  a = read_recording_csv(pa);
+  b = read_recording_csv(pb);
+  const Recording j = join_parts({a, b});
+  ASSERT_EQ(j.size(), a.size() + b.size());
+  EXPECT_DOUBLE_EQ(j.t_s[a.size()], b.t_s.front());
+  EXPECT_DOUBLE_EQ(j.power_W[a.size() + 5], b.power_W[5]);
+  EXPECT_NE(j.source.find(" + "), std::string::npos) << j.source;
+  bool gap = false;
+  for (const auto& n : j.notes) gap = gap || n.find("a gap, kept") != std::string::npos;
+  EXPECT_TRUE(gap);
+  auto error_of = [](const std::vector<Recording>& parts) {
+    try {
+      join_parts(parts);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of({b, a}).find("give the parts in time order"), std::string::npos) << error_of({b, a});
+  Recording no_power = b;
+  no_power.power_W.clear();
+  EXPECT_NE(error_of({a, no_power}).find("lacks power_W"), std::string::npos) << error_of({a, no_power});
+  Recording sparse = b.slice(b.t_s.front(), b.t_s.front());  // empty, then every second sample of b
+  for (std::size_t i = 0; i < b.size(); i += 2) {
+    sparse.t_s.push_back(b.t_s[i]);
+    for (int c = 0; c < kAx; ++c) sparse.channel(c).push_back(b.channel(c)[i]);
+  }
+  EXPECT_NE(error_of({a, sparse}).find("sample step"), std::string::npos) << error_of({a, sparse});
+}

@@ -41,6 +41,11 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
   EXPECT_TRUE(w.effects.worn_liners.enabled);
   EXPECT_NEAR(w.effects.worn_liners.setting_increase_m, 7.5e-3, 1e-15);
   EXPECT_FALSE(w.effects.feed_limited.enabled);
+  EXPECT_TRUE(analysis::is_flow_effect("squeeze_flow"));
+  const auto q = analysis::with_flow_effect(w, "squeeze_flow", 4.0);
+  EXPECT_TRUE(q.effects.squeeze_flow.enabled);
+  EXPECT_NEAR(q.effects.squeeze_flow.escape_length_m, 4e-3, 1e-15);
+  EXPECT_FALSE(q.effects.worn_liners.enabled);
   // A mechanism effect (or none) leaves every chamber effect off.
   EXPECT_FALSE(analysis::with_flow_effect(w, "bearing_friction", 0.02).effects.worn_liners.enabled);
   EXPECT_THROW(analysis::with_flow_effect(base, "worn_liner", 1.0), std::invalid_argument);
@@ -58,7 +63,7 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
 TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
   const analysis::ConfigModel cfg(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
   const auto terms = analysis::module_candidates();
-  ASSERT_EQ(terms.size(), 4u);
+  ASSERT_EQ(terms.size(), 5u);
   for (const auto& t : terms) {
     EXPECT_TRUE(t.lo <= t.nominal && t.nominal <= t.hi) << t.name;
     const double v = 0.5 * (t.lo + t.hi);
@@ -81,6 +86,10 @@ TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
       EXPECT_TRUE(f.worn_liners.enabled);
       EXPECT_NEAR(f.worn_liners.setting_increase_m, v * 1e-3, 1e-15);
       EXPECT_FALSE(off.flow.effects.worn_liners.enabled);
+    } else if (t.name == "squeeze_flow") {
+      EXPECT_TRUE(f.squeeze_flow.enabled);
+      EXPECT_NEAR(f.squeeze_flow.escape_length_m, v * 1e-3, 1e-15);
+      EXPECT_FALSE(off.flow.effects.squeeze_flow.enabled);
     } else {
       ADD_FAILURE() << "unexpected term " << t.name;
     }

@@ -11,6 +11,7 @@
 #include "chamber/flow_config.hpp"
 #include "chamber/flow_model.hpp"
 #include "chamber/liner_wear.hpp"
+#include "chamber/squeeze_flow.hpp"
 #include "core/config.hpp"
 
 namespace {
@@ -214,6 +215,84 @@ TEST(ChamberEffects, SizesGivenInMetresAreRefusedAsAUnitSlip) {
   EXPECT_EQ(error_of("sieves_mm: [0.063, 1, 4, 12, 50]\n"), "");
   EXPECT_EQ(error_of("effects:\n  worn_liners: {enabled: true, setting_increase_mm: 0}\n"), "");
   EXPECT_EQ(error_of("material:\n  selection: {resolved_mm: 0}\n"), "");
+}
+
+// The friction hill: a slice of a layer of thickness g between walls of friction mu balances g dp/dx = 2 mu p
+// (integrated here step by step, RK4), so p(x) / p0 = exp(2 mu x / g); no friction or no length: no rise; a closed
+// gap: finite.
+TEST(SqueezeFlow, PressureRisesAsTheSlabBalanceOfALayerBetweenRoughWalls) {
+  for (double mu : {0.3, 0.7})
+    for (double g : {0.004, 0.02}) {
+      const double x = 0.0085;
+      const int n = 2000;
+      const double h = x / n;
+      auto dp = [&](double q) { return 2 * mu * q / g; };
+      double p = 1.0;
+      for (int i = 0; i < n; ++i) {
+        const double k1 = dp(p), k2 = dp(p + 0.5 * h * k1), k3 = dp(p + 0.5 * h * k2), k4 = dp(p + h * k3);
+        p += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      }
+      EXPECT_NEAR(chamber::squeeze_flow_factor(mu, x, g), p, 1e-9 * p) << "mu " << mu << " g " << g;
+    }
+  EXPECT_EQ(chamber::squeeze_flow_factor(0.0, 0.01, 0.001), 1.0);
+  EXPECT_EQ(chamber::squeeze_flow_factor(0.7, 0.0, 0.001), 1.0);
+  EXPECT_TRUE(std::isfinite(chamber::squeeze_flow_factor(0.7, 0.01, 0.0)));
+}
+
+// In the model: coaxial cylinders, every band pressed past the compaction limit (gap 50 -> 20 mm). With the effect,
+// each band holds E s_max^n exp(2 mu x / g) (mu 0.7, escape length x 25 mm: e^1.75), whatever the number of bands
+// (6 or 12: the law does not see the grid); off, E s_max^n. The top band keeps the limit's mass either way (the
+// limit is the solid's), and the liners' work on the rock is still the energy booked, to 1 %.
+TEST(SqueezeFlow, CellsPressedOutAtTheLimitHoldTheFrictionHillWhateverTheGrid) {
+  for (int bands : {6, 12})
+    for (bool on : {false, true}) {
+      auto p = test_liners::flow_params(bands, 1);
+      p.prefill = true;
+      p.effects.squeeze_flow.enabled = on;
+      p.effects.squeeze_flow.escape_length_m = 0.025;
+      chamber::FlowModel m(p, test_liners::cylinder(0.3), test_liners::cylinder(0.35, -0.8, -0.2));
+      m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+      const auto& mat = p.material;
+      const int n = 3000;
+      double work = 0, x_prev = 0, f_prev = 0;
+      auto at = [&](double x) {
+        const auto L = m.step(test_liners::shifted({-x, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+        work += 0.5 * (L.f_mantle.x() + f_prev) * (x - x_prev);
+        x_prev = x, f_prev = L.f_mantle.x();
+      };
+      for (int i = 1; i <= n; ++i) at(0.030 * i / n);
+      const double p_lim = mat.modulus_Pa * std::pow(mat.max_compression, mat.exponent);
+      const double expect = on ? p_lim * std::exp(2 * 0.7 * 0.025 / 0.020) : p_lim;
+      for (std::size_t b = 0; b < static_cast<std::size_t>(bands); ++b) {
+        ASSERT_NEAR(m.cell_gap(b), 0.020, 1e-9);
+        EXPECT_NEAR(m.cell_pressure(b), expect, 1e-6 * expect) << bands << " bands, " << (on ? "on" : "off")
+                                                               << ", band " << b;
+      }
+      const std::size_t top = bands - 1;
+      EXPECT_NEAR(m.cell_mass(top), m.cell_area(top) * 0.020 * m.loose_density() / (1 - mat.max_compression),
+                  1e-9 * m.cell_mass(top));
+      for (int i = n; i >= 0; --i) at(0.030 * i / n);
+      EXPECT_NEAR(work, m.crushing_energy_J(), 0.01 * work) << bands << " bands, " << (on ? "on" : "off");
+    }
+}
+
+TEST(SqueezeFlow, KeysLoadAndBadValuesAreRefusedByName) {
+  const auto f = chamber::load_flow_params(core::ConfigNode::load_string(
+      "effects:\n  squeeze_flow: {enabled: true, wall_friction: 0.5, escape_length_mm: 12}\n", "test"));
+  EXPECT_TRUE(f.effects.squeeze_flow.enabled);
+  EXPECT_DOUBLE_EQ(f.effects.squeeze_flow.wall_friction, 0.5);
+  EXPECT_NEAR(f.effects.squeeze_flow.escape_length_m, 0.012, 1e-15);
+  EXPECT_DOUBLE_EQ(chamber::FlowParams().effects.squeeze_flow.wall_friction, 0.7);  // Table 4, rock on steel
+  for (const char* bad : {"{enabled: true, wall_friction: 7}", "{enabled: true, escape_length_mm: 0.012}"}) {
+    try {
+      chamber::load_flow_params(core::ConfigNode::load_string(std::string("effects:\n  squeeze_flow: ") + bad, "test"));
+      FAIL() << "expected a throw: " << bad;
+    } catch (const std::exception& e) {
+      const std::string w = e.what();
+      EXPECT_TRUE(w.find("wall_friction") != std::string::npos || w.find("metres given for mm?") != std::string::npos)
+          << w;
+    }
+  }
 }
 
 }  // namespace

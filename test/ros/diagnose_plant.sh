@@ -2,7 +2,8 @@
 # The diagnosis reads a plant (DAQ) export through a column map: the base model's own output written as one
 # (semicolon, decimal comma, ms / mm / kW / rpm, speed logged at its set point, values rounded to the logger's
 # steps, NaN rows, a gap, 500 Hz) must be diagnosed as `none`, the set point and the skipped rows reported; a
-# file read with the wrong delimiter is refused naming the column and the delimiter to give.
+# file read with the wrong delimiter is refused naming the column and the delimiter to give; one recording over two
+# files (--part) from displacement sensors not zeroed at rest (--zero-unknown) is `none` too.
 source "$(dirname "$0")/ros_env.bash"
 cd "$out"
 bin=$(dirname "$(catkin_find --first-only --libexec inertia_crusher diagnose)")
@@ -35,4 +36,21 @@ grep -q "speed_rad_s = 41.88790" diag/report.md || { echo "FAIL: report.md does 
 if msg=$("$bin/diagnose" --recording plant.csv --config "$cfg" --columns "$cols" --out bad 2>&1); then
   echo "FAIL: a ';'-separated file read at ',' was accepted"; exit 1; fi
 grep -q "column 'Zeit' (t) is not in the header.*--delimiter ';'" <<<"$msg" || { echo "FAIL: the message: $msg"; exit 1; }
+# The same recording logged over two files by a sensor not zeroed at rest: --part joins them (the time between them
+# kept as a gap), --zero-unknown leaves the displacements' means out; still none.
+"$bin/make_recording" --config "$cfg" --effect none --seconds 4 --seed 9 --time-offset-s 0.02 --columns "$cols" \
+  --delimiter ';' --decimal , --zero-offset-mm 1.3,-0.8,2.1 --sample-hz 500 --out zero.csv >/dev/null
+head -n 1 zero.csv >part1.csv && sed -n '2,1001p' zero.csv >>part1.csv
+head -n 1 zero.csv >part2.csv && sed -n '1102,$p' zero.csv >>part2.csv
+"$bin/diagnose" --recording part1.csv --part part2.csv --zero-unknown x,y,z --config "$cfg" --columns "$cols" \
+  --delimiter ';' --decimal , --no-plots --out parts >parts.log 2>&1 || { tail -n 20 parts.log; echo "FAIL: diagnose --part"; exit 1; }
+/usr/bin/python3 - parts/diagnosis.json <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["effect"] == "none", f"two parts of the model's own output, zero offsets: {d['effect']}: {d['reason']}"
+i = d["inputs"][0]
+assert any("joined part" in n and "a gap, kept" in n for n in i["notes"]), i["notes"]
+assert i["channels"]["x_m"]["mean"] == "not compared (sensor zero unknown)", i["channels"]["x_m"]
+print("two parts joined, sensor zero unknown: none")
+PY
 echo "diagnosis of a plant export: passed"
