@@ -105,35 +105,25 @@ TEST(SummaryDiagnosis, TheModelsOwnFiguresClaimNothing) {
   EXPECT_TRUE(d.selection.named.empty());
 }
 
-// A chamber effect from the summaries alone: worn liners (20 mm at the discharge)
-// among the mechanism's friction, the drive's static moment and the chamber's other module. (The discharge radius,
-// concave_r_mm[1], is left out: a worn concave and a wider discharge are nearly one change to these four figures.)
-TEST(SummaryDiagnosis, NamesConcealedWornLiners) {
+// A chamber effect concealed in the plant's summaries, among the mechanism's friction, the bearing's and the drive's
+// static moment: the diagnosis names it and fits its main parameter within 15 %.
+static void expect_chamber_effect_named(const std::string& effect, double value) {
   FlowCase c;
   c.terms.clear();
   for (const auto& e : summary_candidates())
-    if (e.name == "joint_friction" || e.name == "worn_liners" || e.name == "bearing_friction") c.terms.push_back(e);
+    if (e.name == "joint_friction" || e.name == effect || e.name == "bearing_friction") c.terms.push_back(e);
   for (const auto& u : c.cfg.uncertain())
     if (u.name == "mbd.vibrator.static_moment_kg_m") c.terms.push_back(u);
   c.model = make_flow_summary_model(c.cfg, c.terms, 3.0, 3.0);
-  const double wear = 20.0;
-  const SummaryDiagnosis d = diagnose_summary(c.plant({{"worn_liners", wear}}), c.model, c.terms);
-  ASSERT_EQ(d.effect, "worn_liners") << d.reason << "\n" << summary_diagnosis_markdown(d);
-  EXPECT_NEAR(d.selection.fitted.at("worn_liners"), wear, 0.15 * wear);
+  const SummaryDiagnosis d = diagnose_summary(c.plant({{effect, value}}), c.model, c.terms);
+  ASSERT_EQ(d.effect, effect) << d.reason << "\n" << summary_diagnosis_markdown(d);
+  EXPECT_NEAR(d.selection.fitted.at(effect), value, 0.15 * value);
 }
 
-// The friction of rock pressed out of the nip (squeeze_flow, escape length 4 mm: +6 kW at 400 rpm, +24 kW at 600 on
-// the shipped model) from the summaries alone, among the mechanism's friction, the bearing's and the static moment.
-TEST(SummaryDiagnosis, NamesConcealedSqueezeFlow) {
-  FlowCase c;
-  c.terms.clear();
-  for (const auto& e : summary_candidates())
-    if (e.name == "joint_friction" || e.name == "squeeze_flow" || e.name == "bearing_friction") c.terms.push_back(e);
-  for (const auto& u : c.cfg.uncertain())
-    if (u.name == "mbd.vibrator.static_moment_kg_m") c.terms.push_back(u);
-  c.model = make_flow_summary_model(c.cfg, c.terms, 3.0, 3.0);
-  const double length = 4.0;
-  const SummaryDiagnosis d = diagnose_summary(c.plant({{"squeeze_flow", length}}), c.model, c.terms);
-  ASSERT_EQ(d.effect, "squeeze_flow") << d.reason << "\n" << summary_diagnosis_markdown(d);
-  EXPECT_NEAR(d.selection.fitted.at("squeeze_flow"), length, 0.15 * length);
-}
+// Worn liners, 20 mm at the discharge. (The discharge radius, concave_r_mm[1], is left out of the candidates: a worn
+// concave and a wider discharge are nearly one change to these four figures.)
+TEST(SummaryDiagnosis, NamesConcealedWornLiners) { expect_chamber_effect_named("worn_liners", 20.0); }
+
+// The friction of rock pressed out of the nip: squeeze_flow, escape length 4 mm (+6 kW at 400 rpm, +24 kW at 600 on
+// the shipped model).
+TEST(SummaryDiagnosis, NamesConcealedSqueezeFlow) { expect_chamber_effect_named("squeeze_flow", 4.0); }
