@@ -9,7 +9,7 @@ namespace u = core::units;
 using core::ConfigNode;
 
 // Plausible bands (core::Schema::plausible, issue 22): a value inside a key's range but ~1000x off is a unit slip.
-// Keys whose slips already fall outside their range (times in s, rock_size_mm, rock_density_kg_m3, ...) have none.
+// A band equal to the range (rock_size_mm, rock_density_kg_m3, ...) only names the slip of a value it refuses.
 const char* const kMetresForMm = "metres given for mm?";
 
 const core::Schema<ChamberParams>& chamber_schema() {
@@ -57,10 +57,12 @@ const core::Schema<ChamberParams>& chamber_schema() {
                  "a crushed sphere becomes four fragments (else fines at once)")
         .number("crushing.min_fragment_mm", "mm", u::mm, 0.1, 1000,
                 [](P& p) -> double& { return p.crushing.min_fragment_m; }, "fragments below this leave as fines")
+        .plausible(0.1, 1000, kMetresForMm, "")
         .number("crushing.fragment_growth_s", "s", 1, 0, 1, [](P& p) -> double& { return p.crushing.fragment_growth_s; },
                 "time a fragment takes to grow to the rock's density (0: none)")
         .number("crushing.reference_size_mm", "mm", u::mm, 1, 10000,
                 [](P& p) -> double& { return p.crushing.reference_size; }, "size at which the strength was measured")
+        .plausible(1, 10000, kMetresForMm, "")
         .number("crushing.size_exponent", "", 1, 0, 1.5, [](P& p) -> double& { return p.crushing.size_exponent; },
                 "size effect of the strength (0: none)")
         .choice("fines", {"discharge", "flow"}, [](const P& p) { return std::string(p.fines_flow ? "flow" : "discharge"); },
@@ -70,6 +72,7 @@ const core::Schema<ChamberParams>& chamber_schema() {
         .integer("feed.shapes", 1, 16, [](P& p) -> int& { return p.feed.shapes; }, "irregular rock shapes")
         .number("feed.rock_size_mm", "mm", u::mm, 5, 300, [](P& p) -> double& { return p.feed.rock_size_m; },
                 "feed top size", true)
+        .plausible(5, 300, kMetresForMm, "")
         .integer("feed.seed", 0, 2147483647, [](P& p) -> unsigned long long& { return p.feed.seed; },
                  "random seed of the feed")
         .number("feed.choke_height_mm", "mm", u::mm, 0, 2000, [](P& p) -> double& { return p.feed.choke_height_m; },
@@ -87,6 +90,7 @@ const core::Schema<ChamberParams>& chamber_schema() {
                 "prefill at most this mass")
         .number("feed.rock_density_kg_m3", "kg/m^3", 1, 500, 20000, [](P& p) -> double& { return p.feed.rock_density; },
                 "solid density of the fed rock (unset: the spheres' material density)")
+        .plausible(500, 20000, "g/cm^3 given for kg/m^3?", "")
         .text("bpm_file", [](P& p) -> std::string& { return p.bpm_file; },
               "calibrated BPM file (relative to the config; else the bpm: mapping, src/rocks/README.md)", false,
               [](const ConfigNode& n, const std::string& key, P& p) {

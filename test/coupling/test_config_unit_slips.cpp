@@ -41,6 +41,15 @@ TEST(DemConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
        "GPa given for MPa?"},
       {"tensile_strength_MPa: 3.77", "tensile_strength_MPa: 500", "dem.crushing.tensile_strength_MPa",
        "kPa given for MPa?"},
+      // Slips that fall outside the key's range: refused by it, the band names the slip.
+      {"sieves_mm: [1, 2, 4, 8, 12, 16, 22.4, 31.5, 40, 50, 63]",
+       "sieves_mm: [0.001, 0.002, 0.004, 0.008, 0.012, 0.016, 0.0224, 0.0315, 0.04, 0.05, 0.063]", "dem.sieves_mm",
+       "metres given for mm?"},
+      {"rock_size_mm: 50", "rock_size_mm: 0.05", "dem.feed.rock_size_mm", "metres given for mm?"},
+      {"tensile_strength_MPa: 3.77", "tensile_strength_MPa: 0.00377", "dem.crushing.tensile_strength_MPa",
+       "GPa given for MPa?"},
+      {"    prefill: true", "    rock_density_kg_m3: 2.65\n    prefill: true", "dem.feed.rock_density_kg_m3",
+       "g/cm^3 given for kg/m^3?"},
   };
   for (const auto& s : slips) {
     const std::string e = error_with(s.from, s.to);
@@ -62,6 +71,8 @@ TEST(DemConfig, BpmUnitSlipsInTheDemSectionAreRefusedByName) {
       {"normal_strength_MPa: 25", "normal_strength_MPa: 0.025", "dem.bpm.bond.normal_strength_MPa",
        "GPa given for MPa?"},
       {"sd_mm: 0.7", "sd_mm: 0.0007", "dem.bpm.metaparticles.coarse.sd_mm", "metres given for mm?"},
+      {"mean_radius_mm: 7", "mean_radius_mm: 0.007", "dem.bpm.metaparticles.coarse.mean_radius_mm",
+       "metres given for mm?"},
   };
   for (const auto& s : slips) {
     const std::string e = error_with(s.from, s.to);

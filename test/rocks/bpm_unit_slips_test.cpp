@@ -53,6 +53,15 @@ TEST(BpmConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
        "{coarse: {mean_radius_mm: 6, sd_mm: 1.05}, fine: {mean_radius_mm: 2, sd_mm: 0.00045}, "
        "coarse_volume_fraction: 0.7}",
        "bpm.metaparticles.fine.sd_mm", "metres given for mm?"},
+      // Slips that fall outside the key's range: refused by it, the band names the slip.
+      {"normal_stiffness_GPa_per_m: 500", "normal_stiffness_GPa_per_m: 500000", "bpm.bond.normal_stiffness_GPa_per_m",
+       "MPa/m given for GPa/m?"},
+      {"shear_strength_MPa: 13.44416007", "shear_strength_MPa: 13444", "bpm.bond.shear_strength_MPa",
+       "kPa given for MPa?"},
+      {"bond_disk_radius_mm: 3.3", "bond_disk_radius_mm: 0.0033", "bpm.bond.bond_disk_radius_mm",
+       "metres given for mm?"},
+      {"{preset: crusher_coarse}", "{coarse: {mean_radius_mm: 0.006, sd_mm: 1.05}}",
+       "bpm.metaparticles.coarse.mean_radius_mm", "metres given for mm?"},
   };
   for (const auto& s : slips) {
     const std::string e = error_with(s.from, s.to);
