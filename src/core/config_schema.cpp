@@ -51,6 +51,39 @@ void check_plausible(const ConfigNode& node, const std::string& key, const KeyIn
   }
 }
 
+void rethrow_naming_slip(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
+  if (k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers)) throw;
+  std::vector<double> v;
+  bool numbers = true;
+  try {
+    const YAML::Node y = node.raw()[key];
+    if (y.IsSequence())
+      for (const auto& e : y) v.push_back(e.as<double>());
+    else
+      v.push_back(y.as<double>());
+  } catch (const YAML::Exception&) {
+    numbers = false;
+  }
+  if (!numbers) throw;  // refused as no number: as it was
+  const double lo = k.plausible_lo, hi = k.plausible_hi;
+  auto fits = [&](double x) { return std::abs(x) >= lo && std::abs(x) <= hi && x >= k.lo && x <= k.hi; };
+  std::ostringstream s;
+  for (double x : v) {  // the first value out of range is the one refused
+    if (std::isfinite(x) && x >= k.lo && x <= k.hi) continue;
+    if (std::isfinite(x) && fits(x * 1e3) && !k.slip_small.empty())
+      s << "; 1000x that (" << format_number(x * 1e3) << ") would fit: " << k.slip_small;
+    else if (std::isfinite(x) && fits(x * 1e-3) && !k.slip_large.empty())
+      s << "; 1/1000 of it (" << format_number(x * 1e-3) << ") would fit: " << k.slip_large;
+    break;
+  }
+  if (s.str().empty()) throw;
+  try {
+    throw;
+  } catch (const ConfigError& e) {
+    throw ConfigError(e.what() + s.str() + " (refused as a likely unit slip)");
+  }
+}
+
 namespace {
 std::string range_of(const KeyInfo& k) {
   switch (k.kind) {

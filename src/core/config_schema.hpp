@@ -43,6 +43,10 @@ struct KeyInfo {
 
 // Refuses (ConfigError through `node`) a value of `key` outside the plausible band of `k`, naming the likely slip.
 void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k);
+// Called in a handler of the ConfigError that refused `key`'s value as out of its range: rethrows it, with the likely
+// slip named when 1000x (or 1/1000 of) an out-of-range value lies in the plausible band of `k` (metres in a mm key
+// whose range starts above 1/1000 of the band: `sieves_mm: [0.001, ...]`, `rock_density_kg_m3: 2.65`).
+[[noreturn]] void rethrow_naming_slip(const ConfigNode& node, const std::string& key, const KeyInfo& k);
 
 // A copy of `over` laid over a copy of `base`: mappings merge key by key (recursively), anything else replaces
 // (how a config's keys are laid over its `base:` file; config.cpp).
@@ -293,15 +297,19 @@ class Schema {
       return;
     }
     const auto& i = e.info;
-    switch (i.kind) {
-      case KeyKind::Number:
-        e.set_num(out, n->number(key, i.lo, i.hi, i.unit, e.scale_of ? e.scale_of(out) : i.scale));
-        break;
-      case KeyKind::Integer: e.set_int(out, n->integer(key, static_cast<long>(i.lo), static_cast<long>(i.hi))); break;
-      case KeyKind::Boolean: e.set_flag(out, n->boolean(key)); break;
-      case KeyKind::Choice: e.set_str(out, n->choice(key, i.choices)); break;
-      case KeyKind::Text: e.set_str(out, n->text(key)); break;
-      case KeyKind::Numbers: e.set_list(out, n->numbers(key, i.lo, i.hi, i.unit, i.scale, i.length)); break;
+    try {
+      switch (i.kind) {
+        case KeyKind::Number:
+          e.set_num(out, n->number(key, i.lo, i.hi, i.unit, e.scale_of ? e.scale_of(out) : i.scale));
+          break;
+        case KeyKind::Integer: e.set_int(out, n->integer(key, static_cast<long>(i.lo), static_cast<long>(i.hi))); break;
+        case KeyKind::Boolean: e.set_flag(out, n->boolean(key)); break;
+        case KeyKind::Choice: e.set_str(out, n->choice(key, i.choices)); break;
+        case KeyKind::Text: e.set_str(out, n->text(key)); break;
+        case KeyKind::Numbers: e.set_list(out, n->numbers(key, i.lo, i.hi, i.unit, i.scale, i.length)); break;
+      }
+    } catch (const ConfigError&) {
+      rethrow_naming_slip(*n, key, i);
     }
     check_plausible(*n, key, i);
     if (e.then) e.then(*n, key, out);

@@ -21,22 +21,35 @@ dem::BondParams BondSettings::params() const {
   return p;
 }
 
+// Plausible bands (core::Schema::plausible, issue 22): a value inside a key's range but ~1000x off is a unit slip.
+// Stiffness per area k_bn, k_bt: Table 2 100-200 GPa/m, Table 4 400 GPa/m, shipped 16-500; 1e4 GPa/m, 25x Table 4's,
+// needs a 5x shorter step than its 3e-7 s (dt ~ 1/sqrt(k)); a slip of MPa/m for GPa/m lands above it.
+// Strengths: Table 2 9-25 MPa; 0.1 MPa (a weak rock's tensile strength) to 1 GPa (above the strongest rock's UCS).
+// Radii: from 0.05 mm, the smallest metaparticle (bpm.metaparticles' range), so 10-50 mm given in metres is caught.
+const char* const kMetresForMm = "metres given for mm?";
+
 const core::Schema<BondSettings>& bond_schema() {
   using B = BondSettings;
   static const core::Schema<BondSettings> s = [] {
     core::Schema<BondSettings> k;
     k.number("normal_stiffness_GPa_per_m", "GPa/m", GPa_per_m, 1.0, 1e5, [](B& b) -> double& { return b.kn; },
              "bond normal stiffness k_bn (Eq. 21)", true)
+        .plausible(1, 1e4, "", "MPa/m given for GPa/m?")
         .number("shear_stiffness_GPa_per_m", "GPa/m", GPa_per_m, 1.0, 1e5, [](B& b) -> double& { return b.kt; },
                 "bond shear stiffness k_bt", true)
+        .plausible(1, 1e4, "", "MPa/m given for GPa/m?")
         .number("normal_strength_MPa", "MPa", MPa, 0.01, 1e4, [](B& b) -> double& { return b.sigma_c; },
                 "bond normal strength sigma_bc (Eq. 24)", true)
+        .plausible(0.1, 1000, "GPa given for MPa?", "kPa given for MPa?")
         .number("shear_strength_MPa", "MPa", MPa, 0.01, 1e4, [](B& b) -> double& { return b.tau_c; },
                 "bond shear strength tau_bc", true)
+        .plausible(0.1, 1000, "GPa given for MPa?", "kPa given for MPa?")
         .number("bond_disk_radius_mm", "mm", mm, 0.01, 100.0, [](B& b) -> double& { return b.disk_radius; },
                 "bond disk radius of a reference-size pair (Eq. 20)", true)
+        .plausible(0.05, 100, kMetresForMm, "")
         .number("reference_radius_mm", "mm", mm, 0.01, 100.0, [](B& b) -> double& { return b.reference_radius; },
                 "particle radius that gets the full disk radius", true)
+        .plausible(0.05, 100, kMetresForMm, "")
         .number("damping", "", 1, 0.0, 1.0, [](B& b) -> double& { return b.damping; },
                 "bond damping, ratio of critical (0: undamped, Eq. 22)");
     return k;

@@ -362,3 +362,39 @@ TEST(ConfigSchema, MetaparticleModesOrAPreset) {
   msg = message_of([&] { load("{}"); });
   EXPECT_NE(msg.find("'m.coarse': missing (required)"), std::string::npos) << msg;
 }
+
+// A value refused by its range whose 1000x (or 1/1000) lies in the key's plausible band is refused naming the likely
+// slip (issue 22: metres in a mm key whose range starts at 0.01 mm, kPa where MPa are read); other refusals as before.
+TEST(ConfigSchema, ARangeRefusalNamesTheLikelySlip) {
+  struct Toy {
+    double size = 0, strength = 0;
+    std::vector<double> sieves;
+  };
+  core::Schema<Toy> s;
+  s.number("size_mm", "mm", 1e-3, 0.01, 1000, [](Toy& t) -> double& { return t.size; }, "a size")
+      .plausible(1, 1000, "metres given for mm?", "")
+      .number("strength_MPa", "MPa", 1e6, 0.01, 1000, [](Toy& t) -> double& { return t.strength; }, "a strength")
+      .plausible(0.1, 1000, "GPa given for MPa?", "kPa given for MPa?")
+      .numbers("sieves_mm", "mm", 1e-3, 0.01, 1000, [](Toy& t) -> std::vector<double>& { return t.sieves; }, "sieves")
+      .plausible(0.02, 1000, "metres given for mm?", "");
+  auto error_of = [&](const std::string& yaml) {
+    return message_of([&] { s.read(ConfigNode::load_string("t: " + yaml, "toy.yaml").child("t")); });
+  };
+  std::string msg = error_of("{size_mm: 0.005}");  // 5 mm in metres: below the range
+  EXPECT_NE(msg.find("'t.size_mm': value 0.005 is out of range; accepted [0.01, 1000] mm"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("1000x that (5) would fit: metres given for mm? (refused as a likely unit slip)"),
+            std::string::npos) << msg;
+  msg = error_of("{strength_MPa: 25000}");  // 25 MPa in kPa: above the range
+  EXPECT_NE(msg.find("'t.strength_MPa'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("1/1000 of it (25) would fit: kPa given for MPa?"), std::string::npos) << msg;
+  msg = error_of("{sieves_mm: [0.001, 0.004, 0.016]}");  // sieves in metres: the first refused
+  EXPECT_NE(msg.find("element 0 value 0.001 is out of range"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("1000x that (1) would fit: metres given for mm?"), std::string::npos) << msg;
+  // Out of range and no slip fits, or no number at all: the refusal as before, no guess.
+  for (const char* yaml : {"{size_mm: 0.000001}", "{size_mm: 5000000}", "{size_mm: abc}", "{strength_MPa: .nan}"}) {
+    msg = error_of(yaml);
+    EXPECT_NE(msg.find("'t."), std::string::npos) << yaml << ": " << msg;
+    EXPECT_EQ(msg.find("would fit"), std::string::npos) << yaml << ": " << msg;
+  }
+  EXPECT_EQ(error_of("{size_mm: 5, strength_MPa: 25, sieves_mm: [1, 4, 16]}"), "");
+}
