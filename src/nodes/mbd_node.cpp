@@ -18,6 +18,7 @@
 #include <std_msgs/UInt64.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -381,7 +382,9 @@ class MbdNode {
   // stopped run it says what the run's folder holds.
   void finish(int& status) {
     if (cfg_.run.load == "dem") {
-      const double until = nodes::wall_now() + 1.0;  // collect the DEM's last product message
+      // Collect the DEM's last product message: 1 s, or half the peer's silence limit when that is shorter (dem_node
+      // waits for the end at most coupling.timeout_s).
+      const double until = nodes::wall_now() + std::min(1.0, 0.5 * cfg_.coupling.timeout_s);
       while (nodes::wall_now() < until) {
         ros::spinOnce();
         ros::WallDuration(0.01).sleep();
