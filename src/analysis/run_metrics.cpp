@@ -57,11 +57,13 @@ struct JsonOut {
   }
 };
 
+// Statistics over whole drive cycles after the settle: null (not 0) when the run has none (DESIGN: null where a value
+// does not exist).
 void json_mean_std(JsonOut& j, const char* name, const MeanStd& m) {
   j.o << "  \"" << name << "\": {\"mean\": ";
-  j.num(std::string(name) + ".mean", m.mean);
+  if (m.samples > 0) j.num(std::string(name) + ".mean", m.mean); else j.o << "null";
   j.o << ", \"std\": ";
-  j.num(std::string(name) + ".std", m.std);
+  if (m.samples > 0) j.num(std::string(name) + ".std", m.std); else j.o << "null";
   j.o << ", \"cycles\": " << m.samples << "},\n";
 }
 
@@ -158,7 +160,7 @@ std::string to_json(const RunSummary& s, std::vector<std::string>* non_finite) {
     o << "  \"throughput_tph\": ";
     j.num("throughput_tph", tph);
     o << ",\n  \"specific_energy_kWh_per_t\": ";
-    if (tph > 0) j.num("specific_energy_kWh_per_t", s.power_kW.mean / tph); else o << "null";
+    if (tph > 0 && s.power_kW.samples > 0) j.num("specific_energy_kWh_per_t", s.power_kW.mean / tph); else o << "null";
     o << ",\n  \"mass_discharged_kg\": ";
     j.num("mass_discharged_kg", p.mass_discharged_kg);
     o << ",\n  \"mass_lost_kg\": ";

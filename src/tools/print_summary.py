@@ -24,7 +24,7 @@ def main(path):
     def cyc(stat):
         return stat if cycles > 0 else None
 
-    rpm = s.get("drive_speed_rad_s", {}).get("mean", 0) * 60 / (2 * 3.141592653589793)
+    rpm = (s.get("drive_speed_rad_s", {}).get("mean") or 0) * 60 / (2 * 3.141592653589793)
     ref = PAPER.get(min(PAPER, key=lambda r: abs(r - rpm))) if rpm > 0 else None
     psd = s.get("psd")
     rows = [

@@ -59,6 +59,7 @@ TEST(RunMetrics, JsonHasContractFieldsAndNullsWithoutParticles) {
     EXPECT_NE(j.find(std::string("\"") + key + "\": null"), std::string::npos) << key;
   s.product = analysis::ProductSummary{80.0, 10.0, {1, 12}, {2.0, 85.0}, 0.25};
   s.power_kW.mean = 76.0;
+  s.power_kW.samples = 12;
   j = analysis::to_json(s);
   EXPECT_NE(j.find("\"specific_energy_kWh_per_t\": 0.95"), std::string::npos) << j;
   EXPECT_NE(j.find("\"sieve_mm\": [1, 12]"), std::string::npos) << j;
@@ -79,6 +80,7 @@ TEST(RunMetrics, RejectsNonPositiveSpeed) {
 TEST(RunMetrics, JsonWritesNonFiniteAsNullAndNamesTheField) {
   analysis::RunSummary s;
   s.amplitude_x_mm.mean = std::numeric_limits<double>::infinity();
+  s.amplitude_x_mm.samples = 3;
   s.product = analysis::ProductSummary{std::nan(""), 10.0, {1, 12}, {2.0, -std::numeric_limits<double>::infinity()}, 0.25};
   s.stopped = "stopped by a signal (SIGTERM)";
   std::vector<std::string> bad;
@@ -90,4 +92,17 @@ TEST(RunMetrics, JsonWritesNonFiniteAsNullAndNamesTheField) {
   EXPECT_NE(j.find("\"stopped\": \"stopped by a signal (SIGTERM)\""), std::string::npos) << j;
   EXPECT_EQ(bad, (std::vector<std::string>{"amplitude_x_mm.mean", "throughput_tph", "psd.passing_pct", "passing_12mm_pct"}));
   EXPECT_NE(analysis::to_json(analysis::RunSummary{}).find("\"stopped\": null"), std::string::npos);
+}
+
+// A run too short for one whole drive cycle after the settle has no cycle statistics: null, not 0 (DESIGN: summary.json
+// holds null only where a value does not exist, never 0 in its place); so has its specific energy, even with a product.
+TEST(RunMetrics, NoWholeCycleWritesNullStatisticsNotZeros) {
+  analysis::RunSummary s;
+  s.product = analysis::ProductSummary{80.0, 10.0, {1, 12}, {2.0, 85.0}, 0.25};
+  const auto j = analysis::to_json(s);
+  for (const char* key : {"amplitude_x_mm", "amplitude_y_mm", "amplitude_z_mm", "power_kW", "drive_speed_rad_s"})
+    EXPECT_NE(j.find(std::string("\"") + key + "\": {\"mean\": null, \"std\": null, \"cycles\": 0}"), std::string::npos)
+        << key << "\n" << j;
+  EXPECT_NE(j.find("\"specific_energy_kWh_per_t\": null"), std::string::npos) << j;
+  EXPECT_NE(j.find("\"throughput_tph\": 80"), std::string::npos) << j;
 }

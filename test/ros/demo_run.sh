@@ -32,6 +32,9 @@ assert s["load"] == "dem" and s["config"].endswith("quick_demo.yaml"), (s["load"
 assert s["stopped"] is None, s["stopped"]
 assert abs(s["simulated_s"] - 0.35) < 2e-3, s["simulated_s"]
 assert s["power_kW"]["cycles"] == 0 and s["amplitude_x_mm"]["cycles"] == 0, (s["power_kW"], s["amplitude_x_mm"])
+for q in ("amplitude_x_mm", "amplitude_y_mm", "amplitude_z_mm", "power_kW", "drive_speed_rad_s"):
+    assert s[q]["mean"] is None and s[q]["std"] is None, (q, s[q])  # no cycle: null, not 0
+assert s["specific_energy_kWh_per_t"] is None, s["specific_energy_kWh_per_t"]
 psd = s["psd"]
 assert len(psd["sieve_mm"]) == len(psd["passing_pct"]) == 11, psd
 assert s["mass_crushed_kg"] > 0, s["mass_crushed_kg"]
