@@ -187,13 +187,17 @@ YAML::Node ConfigModel::with(const ParamSet& p, const std::vector<Term>& terms) 
   return out;
 }
 
+// The config with the terms is written here, in the keys' own units: no unit-slip bands (a term searched near its
+// nominal 0 evaluates values such as 0.15 mm that a band for typed values refuses); the hard ranges still hold.
 mbd::MechanismParams ConfigModel::mechanism(const ParamSet& p, const std::vector<Term>& terms) const {
-  const core::ConfigNode root(with(p, terms), "", file_);
+  core::ConfigNode root(with(p, terms), "", file_);
+  root.without_unit_slip_checks();
   return mbd::load_mechanism_params(root.child("mbd"));
 }
 
 chamber::FlowRunConfig ConfigModel::flow_run(const ParamSet& p, const std::vector<Term>& terms) const {
-  const core::ConfigNode root(with(p, terms), "", file_);
+  core::ConfigNode root(with(p, terms), "", file_);
+  root.without_unit_slip_checks();
   chamber::FlowRunConfig c;
   c.mech = mbd::load_mechanism_params(root.child("mbd"));
   c.flow = chamber::load_flow_params(root.child_or_empty("flow"));

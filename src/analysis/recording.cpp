@@ -65,12 +65,14 @@ std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list) {
 
 Recording join_parts(const std::vector<Recording>& parts) {
   if (parts.empty()) throw std::invalid_argument("join_parts: no parts");
+  for (const auto& p : parts) {
+    check_consistent(p);
+    if (p.size() < 2) throw std::invalid_argument(p.source + ": a part of a recording needs at least 2 samples");
+  }
   Recording out = parts.front();
-  check_consistent(out);
   const double dt = out.sample_dt_s();
   for (std::size_t i = 1; i < parts.size(); ++i) {
     const Recording& p = parts[i];
-    check_consistent(p);
     const std::string pair = p.source + " (part " + std::to_string(i + 1) + " of " + out.source + ")";
     for (int c = 0; c < kNumChannels; ++c)
       if (p.has(c) != out.has(c))
@@ -89,6 +91,12 @@ Recording join_parts(const std::vector<Recording>& parts) {
       throw std::invalid_argument(m.str());
     }
     const double gap = p.t_s.front() - out.t_s.back();
+    if (gap > kMaxPartGap_s) {
+      std::ostringstream m;
+      m << pair << ": starts " << gap << " s after the part before it ends; parts more than " << kMaxPartGap_s
+        << " s apart are separate recordings (give each its own --recording)";
+      throw std::invalid_argument(m.str());
+    }
     std::ostringstream note;
     note << "joined part " << p.source << " after " << gap << " s" << (gap > 1.5 * dt ? " (a gap, kept)" : "");
     out.notes.push_back(note.str());

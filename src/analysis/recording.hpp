@@ -44,7 +44,10 @@ std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list);
 
 // One recording logged over several files (a logger's hourly files; diagnose --part): the parts in order, on one
 // clock, joined into one; the time between two parts stays a gap (reported in notes). Throws std::invalid_argument
-// naming the part when the parts log different channels, overlap in time or differ in sample step by over 1 %.
+// naming the part when a part has under 2 samples, the parts log different channels, overlap in time, differ in
+// sample step by over 1 % or lie over kMaxPartGap_s apart (one harmonic fit spans the parts: its phase must carry
+// across the gap; parts further apart are separate recordings).
+constexpr double kMaxPartGap_s = 10.0;
 Recording join_parts(const std::vector<Recording>& parts);
 
 // Any struct with the six vectors (e.g. mbd::Recording) into an analysis::Recording.

@@ -38,6 +38,7 @@ Recording with_acceleration(const Recording& r) {
   Recording out;
   out.source = r.source;
   out.resolution = r.resolution;
+  out.zero_unknown = r.zero_unknown;
   out.notes = r.notes;
   for (std::size_t i = 2; i + 2 < r.size(); ++i) {
     out.t_s.push_back(r.t_s[i]);

@@ -116,10 +116,11 @@ const core::Schema<FlowParams>& flow_schema() {
         .number("effects.squeeze_flow.wall_friction", "", 1, 0.0, 2.0,
                 [](P& p) -> double& { return p.effects.squeeze_flow.wall_friction; },
                 "Coulomb friction of the pressed rock on both liners (rock on steel 0.7, Table 4)")
-        .number("effects.squeeze_flow.escape_length_mm", "mm", u::mm, 0.0, 100.0,
+        .number("effects.squeeze_flow.escape_length_mm", "mm", u::mm, 0.0, 20.0,
                 [](P& p) -> double& { return p.effects.squeeze_flow.escape_length_m; },
-                "path along the liners from the nip to where the pressed-out rock is free (main parameter)")
-        .plausible(0.5, 100, kMetresForMm, "");
+                "path along the liners from the nip to where the pressed-out rock is free (main parameter; "
+                "30 mm blows up the mechanism's explicit coupling)")
+        .plausible(0.5, 20, kMetresForMm, "");
     k.flow_style("effects.feed_limited");
     k.flow_style("effects.squeeze_flow");
     k.flow_style("effects.worn_liners");

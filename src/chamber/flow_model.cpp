@@ -76,8 +76,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
                                p.sectors);
   const auto& sf = p.effects.squeeze_flow;
   require(!sf.enabled || (sf.wall_friction >= 0 && sf.wall_friction <= 2 && sf.escape_length_m >= 0 &&
-                          sf.escape_length_m <= 0.1),
-          "effects.squeeze_flow needs wall_friction in [0, 2] and escape_length_mm in [0, 100]");
+                          sf.escape_length_m <= 0.02),
+          "effects.squeeze_flow needs wall_friction in [0, 2] and escape_length_mm in [0, 20]");
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));

@@ -70,7 +70,8 @@ struct WornLiners {
 };
 // squeeze_flow: rock at the compaction limit is pressed out of the nip along both liners against their friction
 // to where it is free (squeeze_flow.hpp): a cell pressed out at gap g holds E s_max^n exp(2 mu x / g), x the escape
-// length (unknown: the diagnosis fits it; the model's cells do not resolve the path).
+// length (unknown: the diagnosis fits it; the model's cells do not resolve the path). Only while the rock slides (a
+// step that presses rock out); when the gap stops closing, the bed law's pressure again.
 struct SqueezeFlow {
   bool enabled = false;
   double wall_friction = 0.7;    // rock on steel, static (Table 4)

@@ -186,6 +186,7 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   ConfigNode c(n, join(path_, key), file_);
   c.used_ = used_;
   c.children_ = children_;
+  c.unit_slip_checks_ = unit_slip_checks_;
   children_->push_back(c.path_);
   return c;
 }
@@ -195,6 +196,7 @@ ConfigNode ConfigNode::child_or_empty(const std::string& key) const {
   ConfigNode c(YAML::Node(YAML::NodeType::Map), join(path_, key), file_);
   c.used_ = used_;
   c.children_ = children_;
+  c.unit_slip_checks_ = unit_slip_checks_;
   return c;
 }
 

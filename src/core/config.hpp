@@ -35,6 +35,15 @@ class ConfigNode {
   static ConfigNode load_file(const std::string& file);
   static ConfigNode load_string(const std::string& text, const std::string& name = "<string>");
 
+  // Plausible bands (config_schema.hpp) guard what a person types. A config a program writes in the keys' own units
+  // (the diagnosis's candidates at values near their nominal 0, e.g. 0.15 mm of wear) skips them; the hard ranges
+  // still hold. Children inherit it.
+  ConfigNode& without_unit_slip_checks() {
+    unit_slip_checks_ = false;
+    return *this;
+  }
+  bool unit_slip_checks() const { return unit_slip_checks_; }
+
   bool has(const std::string& key) const;
   ConfigNode child(const std::string& key) const;            // required mapping
   ConfigNode child_or_empty(const std::string& key) const;   // optional mapping
@@ -82,6 +91,7 @@ class ConfigNode {
   std::string file_;
   std::shared_ptr<std::set<std::string>> used_;  // full key paths consumed, shared across children
   std::shared_ptr<std::vector<std::string>> children_;  // child paths to check in finish()
+  bool unit_slip_checks_ = true;
 };
 
 }  // namespace core

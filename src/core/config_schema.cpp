@@ -26,7 +26,8 @@ void set_path(YAML::Node& node, const std::string& name, const YAML::Node& v) {
 }
 
 void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
-  if (k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers)) return;
+  if (!node.unit_slip_checks() || k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers))
+    return;
   const YAML::Node y = node.raw()[key];
   std::vector<double> v;
   if (y.IsSequence())

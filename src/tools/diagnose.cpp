@@ -230,6 +230,12 @@ int main(int argc, char** argv) {
     if (recs.empty() == summary.empty())
       throw std::invalid_argument("give --recording FILE (time series, one or more) or --summary FILE (averages), not both");
     if (!summary.empty()) {
+      const bool series_only = !columns.empty() || !delimiter.empty() || !decimal.empty() || !resolution.empty() ||
+                               !setpoint_rpm.empty() ||
+                               std::any_of(zero_unknown.begin(), zero_unknown.end(), [](bool z) { return z; });
+      if (series_only)
+        throw std::invalid_argument("--columns, --delimiter, --decimal, --resolution, --setpoint-rpm and "
+                                    "--zero-unknown read time series (--recording), not a --summary");
       const ConfigModel cfg(config);
       // The fast model: every module, the chamber's too (summary_candidates), and the uncertain values.
       std::vector<Term> candidates = summary_candidates();

@@ -74,7 +74,10 @@ int main(int argc, char** argv) {
           const std::size_t end = std::min(v.find(',', start), v.size());
           double d = NAN;
           try {
-            d = std::stod(v.substr(start, end - start));
+            std::size_t used = 0;
+            const std::string item = v.substr(start, end - start);
+            d = std::stod(item, &used);
+            if (used != item.size()) d = NAN;  // trailing junk ("1.3mm")
           } catch (const std::exception&) {
           }
           if (!std::isfinite(d) || std::abs(d) > 1e3 || (i < 2) != (end < v.size()))

@@ -232,4 +232,9 @@ TEST(DiagCsv, PartsOfOneRecordingJoinWithTheirGapKept) {
     for (int c = 0; c < kAx; ++c) sparse.channel(c).push_back(b.channel(c)[i]);
   }
   EXPECT_NE(error_of({a, sparse}).find("sample step"), std::string::npos) << error_of({a, sparse});
+  Recording late = b;  // an hour later on the same clock: a separate recording
+  for (double& t : late.t_s) t += 3600;
+  EXPECT_NE(error_of({a, late}).find("separate recordings"), std::string::npos) << error_of({a, late});
+  const Recording one = a.slice(a.t_s.front(), a.t_s.front() + 0.5 * a.sample_dt_s());
+  EXPECT_NE(error_of({one, b}).find("at least 2 samples"), std::string::npos) << error_of({one, b});
 }

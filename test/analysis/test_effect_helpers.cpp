@@ -68,6 +68,11 @@ TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
     EXPECT_TRUE(t.lo <= t.nominal && t.nominal <= t.hi) << t.name;
     const double v = 0.5 * (t.lo + t.hi);
     const auto on = cfg.flow_run({{t.name, v}}, terms), off = cfg.flow_run({{t.name, t.nominal}}, terms);
+    // The selection's uncertainty steps next to the nominal (1 and 2 % of the range, selection.cpp) are real values
+    // in the keys' units: no unit-slip band refuses them (0.3 mm of wear, 0.15 mm escape length).
+    const double step = 0.01 * (t.hi - t.lo) * (t.nominal < t.hi ? 1.0 : -1.0);
+    EXPECT_NO_THROW(cfg.flow_run({{t.name, t.nominal + step}}, terms)) << t.name;
+    EXPECT_NO_THROW(cfg.flow_run({{t.name, t.nominal + 2 * step}}, terms)) << t.name;
     const auto& e = on.mech.effects;
     const auto& f = on.flow.effects;
     if (t.name == "bearing_friction") {
