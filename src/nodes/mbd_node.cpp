@@ -321,9 +321,11 @@ class MbdNode {
 
   void publish_samples(bool with_tf) {
     const ros::Time stamp(mech_->time());
-    rosgraph_msgs::Clock clk;
-    clk.clock = stamp;
-    pub_clock_.publish(clk);
+    if (with_tf) {  // sim time ticks with /tf: every /clock wakes each node's time subscription (this one's too)
+      rosgraph_msgs::Clock clk;
+      clk.clock = stamp;
+      pub_clock_.publish(clk);
+    }
 
     auto tp = mech_->test_point();
     inertia_crusher::TestPoint m;
