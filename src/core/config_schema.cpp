@@ -25,63 +25,74 @@ void set_path(YAML::Node& node, const std::string& name, const YAML::Node& v) {
   node[head] = child;
 }
 
-void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
-  if (!node.unit_slip_checks() || k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers))
-    return;
+namespace {
+bool has_band(const KeyInfo& k) {
+  return k.plausible_hi > 0 && (k.kind == KeyKind::Number || k.kind == KeyKind::Numbers);
+}
+
+// The value of a number key, or each element of a list (YAML::Exception when one is not a number).
+std::vector<double> numbers_at(const ConfigNode& node, const std::string& key) {
   const YAML::Node y = node.raw()[key];
   std::vector<double> v;
   if (y.IsSequence())
     for (const auto& e : y) v.push_back(e.as<double>());
   else
     v.push_back(y.as<double>());
+  return v;
+}
+
+// "; 1000x that (..) would fit: HINT" when 1000x x fits, the same for 1/1000 of it, else "". need_hint: only where
+// the key names the slip (a non-empty hint).
+template <class Fits>
+std::string slip_hint(double x, const KeyInfo& k, Fits fits, bool need_hint) {
+  std::ostringstream s;
+  if (fits(x * 1e3) && (!need_hint || !k.slip_small.empty()))
+    s << "; 1000x that (" << format_number(x * 1e3) << ") would fit: " << k.slip_small;
+  else if (fits(x * 1e-3) && (!need_hint || !k.slip_large.empty()))
+    s << "; 1/1000 of it (" << format_number(x * 1e-3) << ") would fit: " << k.slip_large;
+  return s.str();
+}
+}  // namespace
+
+void check_plausible(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
+  if (!node.unit_slip_checks() || !has_band(k)) return;
+  const std::vector<double> v = numbers_at(node, key);
   const double lo = k.plausible_lo, hi = k.plausible_hi;
-  auto inside = [&](double a) { return a >= lo && a <= hi; };
+  auto inside = [&](double a) { return std::abs(a) >= lo && std::abs(a) <= hi; };
   for (std::size_t i = 0; i < v.size(); ++i) {
-    const double a = std::abs(v[i]);
-    if (a == 0 || inside(a)) continue;
+    if (v[i] == 0 || inside(v[i])) continue;
     std::ostringstream s;
     s << (v.size() > 1 ? "element " + std::to_string(i) + " value " : "value ") << format_number(v[i])
       << " is implausible: magnitudes of " << format_number(lo) << " to " << format_number(hi) << " " << k.unit
-      << " are expected (or 0)";
-    if (a < lo && inside(a * 1e3))
-      s << "; 1000x that (" << format_number(v[i] * 1e3) << ") would fit: " << k.slip_small;
-    else if (a > hi && inside(a * 1e-3))
-      s << "; 1/1000 of it (" << format_number(v[i] * 1e-3) << ") would fit: " << k.slip_large;
-    s << " (refused as a likely unit slip)";
+      << " are expected (or 0)" << slip_hint(v[i], k, inside, false) << " (refused as a likely unit slip)";
     node.fail(key, s.str());
   }
 }
 
 void rethrow_naming_slip(const ConfigNode& node, const std::string& key, const KeyInfo& k) {
-  if (k.plausible_hi <= 0 || (k.kind != KeyKind::Number && k.kind != KeyKind::Numbers)) throw;
+  if (!has_band(k)) throw;
   std::vector<double> v;
   bool numbers = true;
   try {
-    const YAML::Node y = node.raw()[key];
-    if (y.IsSequence())
-      for (const auto& e : y) v.push_back(e.as<double>());
-    else
-      v.push_back(y.as<double>());
+    v = numbers_at(node, key);
   } catch (const YAML::Exception&) {
     numbers = false;
   }
-  if (!numbers) throw;  // refused as no number: as it was
-  const double lo = k.plausible_lo, hi = k.plausible_hi;
-  auto fits = [&](double x) { return std::abs(x) >= lo && std::abs(x) <= hi && x >= k.lo && x <= k.hi; };
-  std::ostringstream s;
-  for (double x : v) {  // the first value out of range is the one refused
-    if (std::isfinite(x) && x >= k.lo && x <= k.hi) continue;
-    if (std::isfinite(x) && fits(x * 1e3) && !k.slip_small.empty())
-      s << "; 1000x that (" << format_number(x * 1e3) << ") would fit: " << k.slip_small;
-    else if (std::isfinite(x) && fits(x * 1e-3) && !k.slip_large.empty())
-      s << "; 1/1000 of it (" << format_number(x * 1e-3) << ") would fit: " << k.slip_large;
-    break;
-  }
-  if (s.str().empty()) throw;
+  if (!numbers) throw;  // refused as no number: as it was (the ConfigError being handled)
+  auto fits = [&](double x) {
+    return std::abs(x) >= k.plausible_lo && std::abs(x) <= k.plausible_hi && x >= k.lo && x <= k.hi;
+  };
+  std::string hint;
+  for (double x : v)  // the first value out of range is the one refused
+    if (!(std::isfinite(x) && x >= k.lo && x <= k.hi)) {
+      hint = slip_hint(x, k, fits, true);
+      break;
+    }
+  if (hint.empty()) throw;
   try {
     throw;
   } catch (const ConfigError& e) {
-    throw ConfigError(e.what() + s.str() + " (refused as a likely unit slip)");
+    throw ConfigError(e.what() + hint + " (refused as a likely unit slip)");
   }
 }
 
