@@ -74,24 +74,6 @@ std::vector<std::string> split(const std::string& line, char d) {
   out.push_back(trim(cell));
   return out;
 }
-// Splits at ',' outside [...] (a unit such as [1/min] holds no comma, but a column name may hold ';').
-std::vector<std::string> split_items(const std::string& spec) {
-  std::vector<std::string> out;
-  std::string cur;
-  int depth = 0;
-  for (char c : spec) {
-    if (c == '[') ++depth;
-    if (c == ']') depth = std::max(0, depth - 1);
-    if (c == ',' && depth == 0) {
-      out.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(trim(cur));
-  return out;
-}
 int parse_key(const std::string& k, const std::string& item, const char* option) {
   for (const auto& key : kKeys)
     if (k == key.name) return key.key;
@@ -110,6 +92,24 @@ bool is_missing_marker(const std::string& cell) {
 std::string delimiter_name(char d) { return d == '\t' ? "tab" : std::string("'") + d + "'"; }
 
 }  // namespace
+
+std::vector<std::string> split_items(const std::string& spec) {
+  std::vector<std::string> out;
+  std::string cur;
+  int depth = 0;
+  for (char c : spec) {
+    if (c == '[') ++depth;
+    if (c == ']') depth = std::max(0, depth - 1);
+    if (c == ',' && depth == 0) {
+      out.push_back(trim(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(trim(cur));
+  return out;
+}
 
 std::string accepted_column_keys() {
   std::string s;

@@ -16,6 +16,9 @@
 
 namespace analysis {
 
+// The items of a comma list, each trimmed; a comma inside [...] does not split (a unit such as [1/min]).
+std::vector<std::string> split_items(const std::string& spec);
+
 constexpr int kTimeKey = -1;  // map key of the time column; channels use their Channel index
 
 struct ColumnSpec {

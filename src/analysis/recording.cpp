@@ -1,4 +1,5 @@
 #include "analysis/recording.hpp"
+#include "analysis/plant_export.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -48,17 +49,13 @@ double Recording::mean_speed_rad_s() const {
 
 std::array<bool, kNumChannels> parse_zero_unknown(const std::string& list) {
   std::array<bool, kNumChannels> out{};
-  std::size_t start = 0;
-  while (start <= list.size()) {
-    const std::size_t end = std::min(list.find(',', start), list.size());
-    const std::string item = list.substr(start, end - start);
+  for (const std::string& item : split_items(list)) {
     if (item == "x") out[kX] = true;
     else if (item == "y") out[kY] = true;
     else if (item == "z") out[kZ] = true;
     else
       throw std::invalid_argument("--zero-unknown: '" + item + "' is not a displacement channel; accepted: x, y, z " +
                                   "(comma separated, e.g. x,y,z)");
-    start = end + 1;
   }
   return out;
 }

@@ -69,21 +69,20 @@ int main(int argc, char** argv) {
       else if (a == "--gain") e.gain = num(1e-3, 1e3);
       else if (a == "--zero-offset-mm") {
         const std::string v = str();
-        std::size_t start = 0;
-        for (int i = 0; i < 3; ++i) {
-          const std::size_t end = std::min(v.find(',', start), v.size());
+        const std::vector<std::string> items = analysis::split_items(v);
+        for (std::size_t i = 0; i < 3; ++i) {
           double d = NAN;
           try {
             std::size_t used = 0;
-            const std::string item = v.substr(start, end - start);
-            d = std::stod(item, &used);
-            if (used != item.size()) d = NAN;  // trailing junk ("1.3mm")
+            if (items.size() == 3) {
+              d = std::stod(items[i], &used);
+              if (used != items[i].size()) d = NAN;  // trailing junk ("1.3mm")
+            }
           } catch (const std::exception&) {
           }
-          if (!std::isfinite(d) || std::abs(d) > 1e3 || (i < 2) != (end < v.size()))
+          if (!std::isfinite(d) || std::abs(d) > 1e3)
             throw std::invalid_argument("--zero-offset-mm " + v + ": accepted three numbers in mm, DX,DY,DZ");
           e.zero_offset_m[i] = d * 1e-3;
-          start = end + 1;
         }
       }
       else if (a == "--seconds") seconds = num(0.1, 3600);
