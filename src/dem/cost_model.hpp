@@ -6,7 +6,8 @@
 // Per DEM step on P ranks (one core each):
 //   t_step(P) = N c / P + t_serial + t_comm(P)
 //   t_comm(P) = 4 L + 2 N_g (b_fwd + b_rev) / B   (P > 1; two neighbour sectors, positions out and forces back)
-//   N_g       = N w / (2 pi r_m)                 ghost particles per sector boundary (charge uniform in azimuth)
+//   N_g       = N w / (2 pi r_m) x ghost_factor  ghost particles per sector boundary (charge uniform in azimuth;
+//                                                 ghost_factor: measured on the real charge over that)
 //   + one allreduce of the liner wrenches per coupling step: 2 ceil(log2 P) L / steps_per_coupling
 // and the wall time per simulated second is t_step / dt. A sector narrower than 2 w (P > pi r_m / w) leaves no
 // interior: the model marks those rows (a 2D decomposition, azimuth x height, would be needed there).
@@ -27,6 +28,9 @@ struct CostModelInputs {
   double bandwidth_B_s = 1.25e9;    // B
   double latency_s = 20e-6;         // L, per message
   double steps_per_coupling = 1;    // DEM steps per coupling step (the wrench allreduce)
+  // Measured ghosts over the uniform formula's N_g (dem_bench: the most loaded rank of the charge's own balanced
+  // wedges, sector_decomposition.hpp); 1: the formula as it is.
+  double ghost_factor = 1;
 };
 
 struct CostModelRow {

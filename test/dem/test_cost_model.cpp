@@ -43,6 +43,16 @@ TEST(CostModel, EightRanksByHand) {
   EXPECT_TRUE(dem::cost_model(inputs(), 32).sectors_too_thin);  // 31 mm < 40 mm
 }
 
+TEST(CostModel, AMeasuredGhostFactorScalesTheGhostsAndTheirTraffic) {
+  auto in = inputs();
+  in.ghost_factor = 1.5;
+  const auto r = dem::cost_model(in, 8);
+  EXPECT_NEAR(r.ghosts_per_boundary, 3000, 1e-9);
+  EXPECT_NEAR(r.comm_s, 4e-5 + 2 * 3000 * 120 / 1e9 + 6e-5 / 1000, 1e-15);
+  in.ghost_factor = 0;
+  EXPECT_THROW(dem::cost_model(in, 8), std::invalid_argument);
+}
+
 TEST(CostModel, RefusesBadInput) {
   auto in = inputs();
   in.particles = 0;
