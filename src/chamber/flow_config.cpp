@@ -55,13 +55,6 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
   return s;
 }
 
-namespace {
-std::string beside(const std::string& config, const std::string& file) {
-  if (file.empty() || file[0] == '/') return file;
-  const auto slash = config.find_last_of('/');
-  return slash == std::string::npos ? file : config.substr(0, slash + 1) + file;
-}
-}  // namespace
 
 const core::Schema<FlowParams>& flow_schema() {
   using P = FlowParams;
@@ -69,8 +62,8 @@ const core::Schema<FlowParams>& flow_schema() {
     core::Schema<FlowParams> k;
     k.text("material_file", [](P& p) -> std::string& { return p.material_file; },
            "flow_material file (relative to the config); keys under material override it", false,
-           [](const ConfigNode& n, const std::string&, P& p) {
-             p.material = load_flow_material(beside(n.file(), p.material_file));
+           [](const ConfigNode& n, const std::string& key, P& p) {
+             p.material = load_flow_material(n.path_beside(key, p.material_file));
            })
         .load_only()
         .include<FlowMaterial>("material", flow_material_schema(), [](P& p) -> FlowMaterial& { return p.material; })

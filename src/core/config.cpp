@@ -126,8 +126,20 @@ YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
 }
 
 namespace {
-// The file's mapping with its `base:` chain resolved (a base path is relative to the file naming it).
-YAML::Node resolved(const std::string& file, int depth) {
+// Records `file` as the origin of every key under the mapping n (full dotted paths).
+void note_origins(const YAML::Node& n, const std::string& prefix, const std::string& file,
+                  std::map<std::string, std::string>& origin) {
+  if (!n.IsMap()) return;
+  for (const auto& kv : n) {
+    const std::string full = join(prefix, kv.first.as<std::string>());
+    origin[full] = file;
+    note_origins(kv.second, full, file, origin);
+  }
+}
+
+// The file's mapping with its `base:` chain resolved (a base path is relative to the file naming it); origin: the
+// file that gives each key (this file's keys over its base's).
+YAML::Node resolved(const std::string& file, int depth, std::map<std::string, std::string>& origin) {
   std::ifstream in(file);
   if (!in) throw ConfigError("config: cannot open '" + file + "'");
   in.seekg(0, std::ios::end);
@@ -140,18 +152,43 @@ YAML::Node resolved(const std::string& file, int depth) {
   ss << in.rdbuf();
   YAML::Node root = parse(ss.str(), file);
   if (!root.IsMap()) throw ConfigError("config " + file + ": the top level must be a mapping of keys");
-  if (!root["base"]) return root;
+  if (!root["base"]) {
+    note_origins(root, "", file, origin);
+    return root;
+  }
   if (!root["base"].IsScalar()) throw ConfigError("config " + file + ": key 'base' must be a file name (a config)");
   if (depth >= 8) throw ConfigError("config " + file + ": 'base' chains deeper than 8 files (a cycle?)");
   std::string base = root["base"].as<std::string>();
   const auto slash = file.find_last_of('/');
   if (!base.empty() && base[0] != '/' && slash != std::string::npos) base = file.substr(0, slash + 1) + base;
   root.remove("base");
-  return merged(resolved(base, depth + 1), root);
+  YAML::Node out = merged(resolved(base, depth + 1, origin), root);
+  note_origins(root, "", file, origin);
+  return out;
 }
 }  // namespace
 
-ConfigNode ConfigNode::load_file(const std::string& file) { return ConfigNode(resolved(file, 0), "", file); }
+ConfigNode ConfigNode::load_file(const std::string& file) {
+  auto origin = std::make_shared<std::map<std::string, std::string>>();
+  ConfigNode n(resolved(file, 0, *origin), "", file);
+  n.origin_ = std::move(origin);
+  return n;
+}
+
+const std::string& ConfigNode::file_of(const std::string& key) const {
+  if (origin_) {
+    const auto it = origin_->find(join(path_, key));
+    if (it != origin_->end()) return it->second;
+  }
+  return file_;
+}
+
+std::string ConfigNode::path_beside(const std::string& key, const std::string& relative) const {
+  if (relative.empty() || relative[0] == '/') return relative;
+  const std::string& f = file_of(key);
+  const auto slash = f.find_last_of('/');
+  return slash == std::string::npos ? relative : f.substr(0, slash + 1) + relative;
+}
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
   if (static_cast<long long>(text.size()) > kMaxConfigBytes)
@@ -186,6 +223,7 @@ ConfigNode ConfigNode::child(const std::string& key) const {
   ConfigNode c(n, join(path_, key), file_);
   c.used_ = used_;
   c.children_ = children_;
+  c.origin_ = origin_;
   c.unit_slip_checks_ = unit_slip_checks_;
   children_->push_back(c.path_);
   return c;
@@ -196,6 +234,7 @@ ConfigNode ConfigNode::child_or_empty(const std::string& key) const {
   ConfigNode c(YAML::Node(YAML::NodeType::Map), join(path_, key), file_);
   c.used_ = used_;
   c.children_ = children_;
+  c.origin_ = origin_;
   c.unit_slip_checks_ = unit_slip_checks_;
   return c;
 }

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <map>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -31,7 +32,8 @@ class ConfigNode {
 
   // Throws ConfigError. A top-level `base: FILE` (relative to this file) is loaded first and this file's keys laid
   // over it: mappings merge key by key, lists and values replace (the 600 rpm config is the 400 rpm one plus what
-  // differs). Relative paths inside a config (material_file, bpm_file) stay relative to the file that is loaded.
+  // differs). A relative path inside a config (material_file, bpm_file) is relative to the file that names it (a
+  // base in another folder keeps its files): resolve it with path_beside().
   static ConfigNode load_file(const std::string& file);
   static ConfigNode load_string(const std::string& text, const std::string& name = "<string>");
 
@@ -78,6 +80,10 @@ class ConfigNode {
 
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }
+  // The file whose text gives `key` (a base's, when the loaded file does not override it); file() otherwise.
+  const std::string& file_of(const std::string& key) const;
+  // `relative` (a value of `key`) made relative to the folder of the file that gives `key`; absolute or "": as it is.
+  std::string path_beside(const std::string& key, const std::string& relative) const;
   YAML::Node raw() const { return node_; }
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
 
@@ -91,6 +97,8 @@ class ConfigNode {
   std::string file_;
   std::shared_ptr<std::set<std::string>> used_;  // full key paths consumed, shared across children
   std::shared_ptr<std::vector<std::string>> children_;  // child paths to check in finish()
+  // Full key path of each value -> the file of the base chain that gives it (load_file; none for load_string).
+  std::shared_ptr<const std::map<std::string, std::string>> origin_;
   bool unit_slip_checks_ = true;
 };
 

@@ -94,9 +94,7 @@ const core::Schema<ChamberParams>& chamber_schema() {
         .text("bpm_file", [](P& p) -> std::string& { return p.bpm_file; },
               "calibrated BPM file (relative to the config; else the bpm: mapping, src/rocks/README.md)", false,
               [](const ConfigNode& n, const std::string& key, P& p) {
-                std::string f = p.bpm_file;
-                const auto slash = n.file().find_last_of('/');
-                if (!f.empty() && f[0] != '/' && slash != std::string::npos) f = n.file().substr(0, slash + 1) + f;
+                const std::string f = n.path_beside(key, p.bpm_file);
                 try {
                   p.bpm = rocks::load_bpm_model(f);
                 } catch (const std::exception& e) {

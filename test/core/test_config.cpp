@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -190,6 +191,26 @@ TEST(Config, BaseConfigIsLaidUnderTheFile) {
   std::ofstream(dir + "/cfg_loop.yaml") << "base: cfg_loop.yaml\n";
   const auto msg = message_of([&] { ConfigNode::load_file(dir + "/cfg_loop.yaml"); });
   EXPECT_NE(msg.find("cycle"), std::string::npos) << msg;
+}
+
+// A relative path in a config is beside the file that names it: a base in another folder keeps its files, a key the
+// derived file gives is beside the derived file; absolute paths and load_string's file name as they are.
+TEST(Config, RelativePathsAreBesideTheFileThatNamesThem) {
+  const std::string dir = ::testing::TempDir() + "/rel_paths";
+  ASSERT_EQ(std::system(("mkdir -p " + dir + "/a " + dir + "/b").c_str()), 0);
+  std::ofstream(dir + "/a/base.yaml") << "flow: {material_file: m.yaml, bands: 4}\ndem: {bpm_file: /abs/bpm.yaml}\n";
+  std::ofstream(dir + "/b/over.yaml") << "base: ../a/base.yaml\nflow: {bands: 5}\nextra: {file: x.yaml}\n";
+  std::ofstream(dir + "/b/over2.yaml") << "base: over.yaml\nflow: {material_file: mine.yaml}\n";
+  const auto over = ConfigNode::load_file(dir + "/b/over.yaml");
+  EXPECT_EQ(over.child("flow").path_beside("material_file", "m.yaml"), dir + "/b/../a/m.yaml");
+  EXPECT_EQ(over.child("flow").file_of("bands"), dir + "/b/over.yaml");
+  EXPECT_EQ(over.child("extra").path_beside("file", "x.yaml"), dir + "/b/x.yaml");
+  EXPECT_EQ(over.child("dem").path_beside("bpm_file", "/abs/bpm.yaml"), "/abs/bpm.yaml");
+  EXPECT_EQ(over.path_beside("missing", "y.yaml"), dir + "/b/y.yaml");  // not in any file: the loaded one's folder
+  const auto over2 = ConfigNode::load_file(dir + "/b/over2.yaml");
+  EXPECT_EQ(over2.child("flow").path_beside("material_file", "mine.yaml"), dir + "/b/mine.yaml");
+  EXPECT_EQ(over2.child("dem").file_of("bpm_file"), dir + "/b/../a/base.yaml");
+  EXPECT_EQ(ConfigNode::load_string("a: 1", "/some/where/c.yaml").path_beside("a", "z.yaml"), "/some/where/z.yaml");
 }
 
 // The shipped 600 rpm config is the 400 rpm one plus the drive speed and the time step, nothing else.

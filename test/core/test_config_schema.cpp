@@ -53,6 +53,15 @@ Section section(const std::string& name, const core::Schema<T>& s,
           }};
 }
 
+// A plant's own config in its own folder, on the shipped one as its base: the base's relative bpm_file is found
+// beside the base (it was looked for beside the plant's file).
+TEST(ConfigSchema, ADerivedConfigElsewhereFindsItsBasesFiles) {
+  const std::string file = ::testing::TempDir() + "/plant_gyp1200.yaml";
+  std::ofstream(file) << "base: " << kDir << "gyp1200_400rpm.yaml\nmbd: {drive: {speed_rpm: 450}}\n";
+  const auto root = ConfigNode::load_file(file);
+  EXPECT_NO_THROW(coupling::load_chamber_params(root.child("dem"), {}, 0, 0));
+}
+
 // Loaded as if it were a file in launch_free_configs (relative bpm_file).
 ConfigNode load_text(const std::string& text) { return ConfigNode::load_string(text, kDir + "schema_test.yaml"); }
 
