@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "../common/unit_slips.hpp"
 #include "core/config.hpp"
 #include "small_chamber.hpp"
 
@@ -12,10 +13,7 @@ namespace {
 
 // The error of loading quick_demo.yaml's dem section with `from` replaced by `to` ("" when it loads).
 std::string error_with(const std::string& from, const std::string& to) {
-  std::string text = test_chamber::quick_demo_text();
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("quick_demo.yaml has no '" + from + "'");
-  text.replace(at, from.size(), to);
+  const std::string text = test_slips::replaced(test_chamber::quick_demo_text(), from, to, "quick_demo.yaml");
   try {
     test_chamber::chamber_params_of(text);
     return "";
@@ -24,12 +22,7 @@ std::string error_with(const std::string& from, const std::string& to) {
   }
 }
 
-struct Slip {
-  const char* from;  // quick_demo.yaml's text
-  const char* to;    // the same value in the wrong unit
-  const char* key;   // the key path the message must name
-  const char* hint;  // the likely slip it must name
-};
+using test_slips::Slip;
 
 TEST(DemConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
   const Slip slips[] = {
@@ -51,11 +44,7 @@ TEST(DemConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
       {"    prefill: true", "    rock_density_kg_m3: 2.65\n    prefill: true", "dem.feed.rock_density_kg_m3",
        "g/cm^3 given for kg/m^3?"},
   };
-  for (const auto& s : slips) {
-    const std::string e = error_with(s.from, s.to);
-    EXPECT_NE(e.find(s.key), std::string::npos) << s.to << ": " << e;
-    EXPECT_NE(e.find(s.hint), std::string::npos) << s.to << ": " << e;
-  }
+  test_slips::expect_slips_named(slips, error_with);
   // Sensible values at the bands' ends pass: no discharge margin, no choke feeding, a 20 um sieve, a weak rock.
   EXPECT_EQ(error_with("discharge_below_mm: 40", "discharge_below_mm: 0"), "");
   EXPECT_EQ(error_with("choke_height_mm: 80", "choke_height_mm: 0"), "");
@@ -74,11 +63,7 @@ TEST(DemConfig, BpmUnitSlipsInTheDemSectionAreRefusedByName) {
       {"mean_radius_mm: 7", "mean_radius_mm: 0.007", "dem.bpm.metaparticles.coarse.mean_radius_mm",
        "metres given for mm?"},
   };
-  for (const auto& s : slips) {
-    const std::string e = error_with(s.from, s.to);
-    EXPECT_NE(e.find(s.key), std::string::npos) << s.to << ": " << e;
-    EXPECT_NE(e.find(s.hint), std::string::npos) << s.to << ": " << e;
-  }
+  test_slips::expect_slips_named(slips, error_with);
 }
 
 }  // namespace

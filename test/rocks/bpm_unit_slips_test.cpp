@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "../common/unit_slips.hpp"
 #include "core/config.hpp"
 #include "rocks/bpm_config.hpp"
 
@@ -14,13 +15,8 @@ namespace {
 
 // The error of reading launch_free_configs/bpm_calibrated.yaml with `from` replaced by `to` ("" when it loads).
 std::string error_with(const std::string& from, const std::string& to) {
-  std::ifstream in(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/bpm_calibrated.yaml");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  std::string text = ss.str();
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("bpm_calibrated.yaml has no '" + from + "'");
-  text.replace(at, from.size(), to);
+  const std::string text = test_slips::replaced(test_slips::source_text("launch_free_configs/bpm_calibrated.yaml"),
+                                                from, to, "bpm_calibrated.yaml");
   try {
     const auto root = core::ConfigNode::load_string(text, "bpm_calibrated+test");
     rocks::bpm_model_from_config(root.child("bpm"));
@@ -31,9 +27,7 @@ std::string error_with(const std::string& from, const std::string& to) {
 }
 
 TEST(BpmConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
-  const struct {
-    const char *from, *to, *key, *hint;
-  } slips[] = {
+  const test_slips::Slip slips[] = {
       {"normal_stiffness_GPa_per_m: 500", "normal_stiffness_GPa_per_m: 50000", "bpm.bond.normal_stiffness_GPa_per_m",
        "MPa/m given for GPa/m?"},
       {"shear_stiffness_GPa_per_m: 200", "shear_stiffness_GPa_per_m: 20000", "bpm.bond.shear_stiffness_GPa_per_m",
@@ -63,11 +57,7 @@ TEST(BpmConfig, UnitSlipsAreRefusedNamingTheKeyAndTheLikelyUnit) {
       {"{preset: crusher_coarse}", "{coarse: {mean_radius_mm: 0.006, sd_mm: 1.05}}",
        "bpm.metaparticles.coarse.mean_radius_mm", "metres given for mm?"},
   };
-  for (const auto& s : slips) {
-    const std::string e = error_with(s.from, s.to);
-    EXPECT_NE(e.find(s.key), std::string::npos) << s.to << ": " << e;
-    EXPECT_NE(e.find(s.hint), std::string::npos) << s.to << ": " << e;
-  }
+  test_slips::expect_slips_named(slips, error_with);
   // Sensible values pass: the shipped file, Table 4's 400 GPa/m, a weak rock's 0.5 MPa bonds, mono-sized spheres.
   EXPECT_EQ(error_with("damping: 0", "damping: 0"), "");
   EXPECT_EQ(error_with("normal_stiffness_GPa_per_m: 500", "normal_stiffness_GPa_per_m: 400"), "");
