@@ -126,6 +126,13 @@ YAML::Node merged(const YAML::Node& base, const YAML::Node& over) {
 }
 
 namespace {
+// `relative` beside `file` (in its folder); absolute or "": as it is.
+std::string beside(const std::string& file, const std::string& relative) {
+  if (relative.empty() || relative[0] == '/') return relative;
+  const auto slash = file.find_last_of('/');
+  return slash == std::string::npos ? relative : file.substr(0, slash + 1) + relative;
+}
+
 // Records `file` as the origin of every key under the mapping n (full dotted paths).
 void note_origins(const YAML::Node& n, const std::string& prefix, const std::string& file,
                   std::map<std::string, std::string>& origin) {
@@ -158,9 +165,7 @@ YAML::Node resolved(const std::string& file, int depth, std::map<std::string, st
   }
   if (!root["base"].IsScalar()) throw ConfigError("config " + file + ": key 'base' must be a file name (a config)");
   if (depth >= 8) throw ConfigError("config " + file + ": 'base' chains deeper than 8 files (a cycle?)");
-  std::string base = root["base"].as<std::string>();
-  const auto slash = file.find_last_of('/');
-  if (!base.empty() && base[0] != '/' && slash != std::string::npos) base = file.substr(0, slash + 1) + base;
+  const std::string base = beside(file, root["base"].as<std::string>());
   root.remove("base");
   YAML::Node out = merged(resolved(base, depth + 1, origin), root);
   note_origins(root, "", file, origin);
@@ -184,10 +189,7 @@ const std::string& ConfigNode::file_of(const std::string& key) const {
 }
 
 std::string ConfigNode::path_beside(const std::string& key, const std::string& relative) const {
-  if (relative.empty() || relative[0] == '/') return relative;
-  const std::string& f = file_of(key);
-  const auto slash = f.find_last_of('/');
-  return slash == std::string::npos ? relative : f.substr(0, slash + 1) + relative;
+  return beside(file_of(key), relative);
 }
 
 ConfigNode ConfigNode::load_string(const std::string& text, const std::string& name) {
