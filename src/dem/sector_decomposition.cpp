@@ -45,7 +45,10 @@ int SectorDecomposition::owner(double x, double y) const {
 
 double SectorDecomposition::distance(int rank, double x, double y) const {
   if (rank < 0 || rank >= ranks()) throw std::out_of_range("SectorDecomposition::distance: no rank " + std::to_string(rank));
-  if (ranks() == 1 || owner(x, y) == rank) return 0.0;
+  return ranks() == 1 || owner(x, y) == rank ? 0.0 : boundary_distance(rank, x, y);
+}
+
+double SectorDecomposition::boundary_distance(int rank, double x, double y) const {
   return std::min(to_half_plane(x, y, cos_[rank], sin_[rank]), to_half_plane(x, y, cos_[rank + 1], sin_[rank + 1]));
 }
 
@@ -88,7 +91,7 @@ RankLayout rank_layout(const SectorDecomposition& d, const double* x, const doub
     L.owner[i] = o;
     L.owned[o].push_back(static_cast<uint32_t>(i));
     for (int r = 0; r < P; ++r)
-      if (r != o && d.distance(r, x[i], y[i]) < reach) L.ghosts[r].push_back(static_cast<uint32_t>(i));
+      if (r != o && d.boundary_distance(r, x[i], y[i]) < reach) L.ghosts[r].push_back(static_cast<uint32_t>(i));
   }
   return L;
 }

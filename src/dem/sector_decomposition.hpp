@@ -26,6 +26,9 @@ class SectorDecomposition {
   const std::vector<double>& bounds() const { return bounds_; }
   int owner(double x, double y) const;  // rank whose wedge holds (x, y); the axis (0, 0) belongs to rank 0
   double distance(int rank, double x, double y) const;  // m from (x, y, any z) to the rank's wedge (0 inside)
+  // m from (x, y, any z) to the nearer of the rank's two boundary half-planes: its distance to the wedge when it lies
+  // outside (a caller that knows the owner skips the owner's azimuth).
+  double boundary_distance(int rank, double x, double y) const;
 
  private:
   std::vector<double> bounds_, cos_, sin_;  // cos_, sin_: of each bound
