@@ -70,18 +70,17 @@ int main(int argc, char** argv) {
       else if (a == "--zero-offset-mm") {
         const std::string v = str();
         const std::vector<std::string> items = analysis::split_items(v);
+        const std::invalid_argument refused("--zero-offset-mm " + v + ": accepted three numbers in mm, DX,DY,DZ");
+        if (items.size() != 3) throw refused;
         for (std::size_t i = 0; i < 3; ++i) {
           double d = NAN;
           try {
             std::size_t used = 0;
-            if (items.size() == 3) {
-              d = std::stod(items[i], &used);
-              if (used != items[i].size()) d = NAN;  // trailing junk ("1.3mm")
-            }
+            d = std::stod(items[i], &used);
+            if (used != items[i].size()) d = NAN;  // trailing junk ("1.3mm")
           } catch (const std::exception&) {
           }
-          if (!std::isfinite(d) || std::abs(d) > 1e3)
-            throw std::invalid_argument("--zero-offset-mm " + v + ": accepted three numbers in mm, DX,DY,DZ");
+          if (!std::isfinite(d) || std::abs(d) > 1e3) throw refused;
           e.zero_offset_m[i] = d * 1e-3;
         }
       }
