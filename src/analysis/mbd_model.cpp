@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "analysis/metrics.hpp"
+#include "core/config_schema.hpp"
 #include "mbd/simulate.hpp"
 
 namespace analysis {
@@ -120,8 +121,10 @@ chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std:
     f.effects.worn_liners.enabled = true;
     f.effects.worn_liners.setting_increase_m = value * 1e-3;  // YAML: mm
   } else if (effect == "squeeze_flow") {
-    if (!(value >= 0 && value <= 20))
-      throw std::invalid_argument("squeeze_flow: escape_length_mm must be in [0, 20], got " + std::to_string(value));
+    const double hi = chamber::SqueezeFlow::kMaxEscapeLength_mm;
+    if (!(value >= 0 && value <= hi))
+      throw std::invalid_argument("squeeze_flow: escape_length_mm must be in [0, " + core::format_number(hi) +
+                                  "], got " + std::to_string(value));
     f.effects.squeeze_flow.enabled = true;
     f.effects.squeeze_flow.escape_length_m = value * 1e-3;  // YAML: mm
   } else if (effect != "none" && (", " + mbd_effect_names() + ",").find(", " + effect + ",") == std::string::npos) {

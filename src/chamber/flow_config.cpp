@@ -12,7 +12,7 @@ using core::ConfigNode;
 
 // Plausible bands (core::Schema::plausible, issue 22): sizes in mm that are ~1000x too small were given in metres.
 // Sieves from 20 um, reference sizes from 0.1 mm, liner wear from 0.5 mm (0 is accepted: no wear).
-const char* const kMetresForMm = "metres given for mm?";
+using core::kMetresForMm;
 
 const core::Schema<FlowMaterial>& flow_material_schema() {
   using M = FlowMaterial;
@@ -109,11 +109,11 @@ const core::Schema<FlowParams>& flow_schema() {
         .number("effects.squeeze_flow.wall_friction", "", 1, 0.0, 2.0,
                 [](P& p) -> double& { return p.effects.squeeze_flow.wall_friction; },
                 "Coulomb friction of the pressed rock on both liners (rock on steel 0.7, Table 4)")
-        .number("effects.squeeze_flow.escape_length_mm", "mm", u::mm, 0.0, 20.0,
+        .number("effects.squeeze_flow.escape_length_mm", "mm", u::mm, 0.0, SqueezeFlow::kMaxEscapeLength_mm,
                 [](P& p) -> double& { return p.effects.squeeze_flow.escape_length_m; },
                 "path along the liners from the nip to where the pressed-out rock is free (main parameter; "
                 "30 mm blows up the mechanism's explicit coupling)")
-        .plausible(0.5, 20, kMetresForMm, "");
+        .plausible(0.5, SqueezeFlow::kMaxEscapeLength_mm, kMetresForMm, "");
     k.flow_style("effects.feed_limited");
     k.flow_style("effects.squeeze_flow");
     k.flow_style("effects.worn_liners");

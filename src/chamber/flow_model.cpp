@@ -2,6 +2,7 @@
 #include "chamber/squeeze_flow.hpp"
 
 #include "chamber/liner_wear.hpp"
+#include "core/config_schema.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -76,8 +77,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
                                p.sectors);
   const auto& sf = p.effects.squeeze_flow;
   require(!sf.enabled || (sf.wall_friction >= 0 && sf.wall_friction <= 2 && sf.escape_length_m >= 0 &&
-                          sf.escape_length_m <= 0.02),
-          "effects.squeeze_flow needs wall_friction in [0, 2] and escape_length_mm in [0, 20]");
+                          sf.escape_length_m <= SqueezeFlow::kMaxEscapeLength_m),
+          "effects.squeeze_flow needs wall_friction in [0, 2] and escape_length_mm in [0, " +
+              core::format_number(SqueezeFlow::kMaxEscapeLength_mm) + "]");
   const std::size_t K = p.sieves_m.size();
   for (std::size_t j = 0; j <= K; ++j)
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));

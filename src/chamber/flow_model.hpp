@@ -73,6 +73,9 @@ struct WornLiners {
 // length (unknown: the diagnosis fits it; the model's cells do not resolve the path). Only while the rock slides (a
 // step that presses rock out); when the gap stops closing, the bed law's pressure again.
 struct SqueezeFlow {
+  // From ~20 mm the friction hill is too stiff for the mechanism's explicit coupling (30 mm blows up at both speeds).
+  static constexpr double kMaxEscapeLength_m = 0.02;
+  static constexpr double kMaxEscapeLength_mm = 1e3 * kMaxEscapeLength_m;
   bool enabled = false;
   double wall_friction = 0.7;    // rock on steel, static (Table 4)
   double escape_length_m = 0.0;  // config: escape_length_mm

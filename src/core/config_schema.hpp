@@ -21,6 +21,9 @@ namespace core {
 
 enum class KeyKind { Number, Integer, Boolean, Choice, Text, Numbers };
 
+// The slip hint of a mm key's plausible band (Schema::plausible): a size typed in metres.
+inline constexpr const char* kMetresForMm = "metres given for mm?";
+
 struct KeyInfo {
   std::string name;                  // path inside the section: "pressure.modulus_MPa"
   KeyKind kind = KeyKind::Number;

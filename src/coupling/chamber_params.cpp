@@ -10,7 +10,7 @@ using core::ConfigNode;
 
 // Plausible bands (core::Schema::plausible, issue 22): a value inside a key's range but ~1000x off is a unit slip.
 // A band equal to the range (rock_size_mm, rock_density_kg_m3, ...) only names the slip of a value it refuses.
-const char* const kMetresForMm = "metres given for mm?";
+using core::kMetresForMm;
 
 const core::Schema<ChamberParams>& chamber_schema() {
   using P = ChamberParams;

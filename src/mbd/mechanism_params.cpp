@@ -42,7 +42,7 @@ using Ref = std::function<V&(P&)>;
 // Plausible bands (core::Schema::plausible): a value inside a key's range but ~1000x off is a unit slip (issue 22:
 // `com_z_mm: -0.7`, absorber stiffness x1000 passed). Points of the machine lie 10 mm to 10 m from O1 (or on it: 0).
 constexpr double kPointLo_mm = 10, kPointHi_mm = 10000;
-const char* const kMetresForMm = "metres given for mm?";
+using core::kMetresForMm;
 
 // mass_kg, com_z_mm (if com), inertia_kg_m2 of a body under `name`.
 void body(S& k, const std::string& name, Ref<BodyParams> b, double mass_lo, double mass_hi, bool with_com,

@@ -26,7 +26,7 @@ dem::BondParams BondSettings::params() const {
 // needs a 5x shorter step than its 3e-7 s (dt ~ 1/sqrt(k)); a slip of MPa/m for GPa/m lands above it.
 // Strengths: Table 2 9-25 MPa; 0.1 MPa (a weak rock's tensile strength) to 1 GPa (above the strongest rock's UCS).
 // Radii: from 0.05 mm, the smallest metaparticle (bpm.metaparticles' range), so 10-50 mm given in metres is caught.
-const char* const kMetresForMm = "metres given for mm?";
+using core::kMetresForMm;
 
 const core::Schema<BondSettings>& bond_schema() {
   using B = BondSettings;

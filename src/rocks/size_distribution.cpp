@@ -67,19 +67,19 @@ const core::Schema<MetaparticleKeys>& metaparticles_schema() {
         .applies_if(modes, "modes (no preset)", "no preset")
         .number("coarse.mean_radius_mm", "mm", mm, 0.05, 100.0, [](K& o) -> double& { return o.coarse_mean_radius; },
                 "mean radius of the (coarse) mode", true)
-        .plausible(0.05, 100, "metres given for mm?", "")  // the range: names the slip of 0.006
+        .plausible(0.05, 100, core::kMetresForMm, "")  // the range: names the slip of 0.006
         .applies_if(modes, "modes (no preset)", "no preset")
         .number("coarse.sd_mm", "mm", mm, 0.0, 50.0, [](K& o) -> double& { return o.coarse_sd; },
                 "its standard deviation", true)
-        .plausible(0.01, 50, "metres given for mm?", "")  // 0 or from 10 um: a 0.7 mm sd given in metres is caught
+        .plausible(0.01, 50, core::kMetresForMm, "")  // 0 or from 10 um: a 0.7 mm sd given in metres is caught
         .applies_if(modes, "modes (no preset)", "no preset")
         .number("fine.mean_radius_mm", "mm", mm, 0.05, 100.0, [](K& o) -> double& { return o.fine_mean_radius; },
                 "mean radius of the fine mode (unset: one mode)")
-        .plausible(0.05, 100, "metres given for mm?", "")  // the range: names the slip of 0.006
+        .plausible(0.05, 100, core::kMetresForMm, "")  // the range: names the slip of 0.006
         .applies_if(modes, "modes (no preset)", "no preset")
         .number("fine.sd_mm", "mm", mm, 0.0, 50.0, [](K& o) -> double& { return o.fine_sd; },
                 "its standard deviation", true)
-        .plausible(0.01, 50, "metres given for mm?", "")
+        .plausible(0.01, 50, core::kMetresForMm, "")
         .applies_if(two, "two modes (fine.mean_radius_mm given)", "fine.mean_radius_mm is given")
         .number("coarse_volume_fraction", "", 1, 0.01, 0.99, [](K& o) -> double& { return o.coarse_volume_fraction; },
                 "share of the solid volume in the coarse mode", true)
