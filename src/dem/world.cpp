@@ -1117,16 +1117,38 @@ void World::move_walls() {
 void World::step(long nsteps) {
   if (nsteps < 0) throw std::invalid_argument("dem::World::step: negative step count");
   if (nsteps == 0) return;
-  prepare();
+  if (opened_) throw std::logic_error("dem::World::step: called between step_begin() and step_end()");
+  open_step();
+  run_steps(nsteps);
+}
+
+void World::step_begin() {
+  if (opened_) throw std::logic_error("dem::World::step_begin: called twice without step_end()");
+  open_step();
+  opened_ = true;
+}
+
+void World::step_end() {
+  if (!opened_) throw std::logic_error("dem::World::step_end: no step_begin() before it");
+  opened_ = false;
+  // the caller may have moved particles (ghosts) since the drift: their displacement since the build is re-measured
   const long n = static_cast<long>(p_.size());
-  using clk = std::chrono::steady_clock;
-  auto t1 = clk::now();
-  auto lap = [this, &t1](int k) {
-    const auto now = clk::now();
-    phase_s_[k] += std::chrono::duration<double>(now - t1).count();
-    t1 = now;
-  };
-  // opening half kick + drift of the first step
+  double m2 = 0;
+  for (long i = 0; i < n; ++i) {
+    const double dx = p_.x[i] - x0_[i], dy = p_.y[i] - y0_[i], dz = p_.z[i] - z0_[i];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    m2 = std::max(m2, d2 == d2 ? d2 : std::numeric_limits<double>::infinity());
+  }
+  std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
+  if (!maxd_thr_.empty()) maxd_thr_[0] = m2;
+  run_steps(1);
+}
+
+// The opening half kick and drift of a call's first step (later steps' are fused with the force gather).
+void World::open_step() {
+  prepare();
+  const auto t0 = std::chrono::steady_clock::now();
+  const long n = static_cast<long>(p_.size());
   std::fill(maxd_thr_.begin(), maxd_thr_.end(), 0.0);
   const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
   chunked(nt_, n, [&](long ib, long ie, int th) {
@@ -1136,7 +1158,19 @@ void World::step(long nsteps) {
     maxd_thr_[th] = maxd2;
   });
   move_walls();
-  lap(0);
+  phase_s_[0] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void World::run_steps(long nsteps) {
+  const long n = static_cast<long>(p_.size());
+  const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
+  using clk = std::chrono::steady_clock;
+  auto t1 = clk::now();
+  auto lap = [this, &t1](int k) {
+    const auto now = clk::now();
+    phase_s_[k] += std::chrono::duration<double>(now - t1).count();
+    t1 = now;
+  };
   for (long s = 0; s < nsteps; ++s) {
     const bool last = s == nsteps - 1;
     double maxd2 = 0;

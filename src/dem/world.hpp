@@ -117,6 +117,12 @@ class World {
   void set_dt(double dt);
   double dt() const { return prm_.dt; }
   void step(long n = 1);
+  // One step in two halves, for a caller that changes particles in between (ghost exchange of a domain
+  // decomposition, ghost_domains.hpp): step_begin() does the opening half kick and drift (walls move),
+  // step_end() re-measures every particle's displacement, then forces, the closing half kick and the step count.
+  // step_begin(); step_end(); equals step(1) bit for bit. Throws std::logic_error when unpaired.
+  void step_begin();
+  void step_end();
   double time() const { return t_; }
   long step_count() const { return nstep_; }
 
@@ -174,6 +180,8 @@ class World {
     double f[3], ti[3], tj[3];
   };
   void prepare();
+  void open_step();
+  void run_steps(long nsteps);
   void rebuild();
   void rebuild_bond_csr();
   void resize_per_particle();
@@ -198,6 +206,7 @@ class World {
   double t_ = 0;
   long nstep_ = 0, nrebuild_ = 0;
   bool need_rebuild_ = true, bonds_dirty_ = true, dt_checked_ = false;
+  bool opened_ = false;  // between step_begin() and step_end()
   std::size_t n_known_ = 0;  // particle count the per-particle arrays are sized for
 
   // neighbour list: pairs (i < j) grouped by owner i: i's pairs are [istart[i], istart[i+1])

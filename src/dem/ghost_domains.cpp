@@ -1,0 +1,175 @@
+#include "dem/ghost_domains.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/binary_io.hpp"
+
+namespace dem {
+
+GhostPlan cut_domain(World& w, const RankLayout& layout, int rank) {
+  const std::size_t n = w.particles().size();
+  const int P = static_cast<int>(layout.owned.size());
+  if (layout.owner.size() != n)
+    throw std::invalid_argument("cut_domain: the layout has " + std::to_string(layout.owner.size()) +
+                                " particles, the World " + std::to_string(n));
+  if (rank < 0 || rank >= P)
+    throw std::invalid_argument("cut_domain: rank " + std::to_string(rank) + " of " + std::to_string(P));
+  // new index of each kept particle (the World keeps the order of those it keeps)
+  std::vector<long> at(n, -1);
+  std::vector<char> remove(n, 1);
+  for (uint32_t i : layout.owned[rank]) remove[i] = 0;
+  for (uint32_t i : layout.ghosts[rank]) remove[i] = 0;
+  long k = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!remove[i]) at[i] = k++;
+  for (const Bond& b : w.bonds()) {
+    if (!b.alive) continue;
+    const bool own_i = layout.owner[b.i] == rank, own_j = layout.owner[b.j] == rank;
+    if ((own_i && at[b.j] < 0) || (own_j && at[b.i] < 0))
+      throw std::invalid_argument("cut_domain: the bond of particles " + std::to_string(w.particles().id[b.i]) +
+                                  " and " + std::to_string(w.particles().id[b.j]) + " crosses rank " +
+                                  std::to_string(rank) + "'s ghost layer: the reach is shorter than the bond");
+  }
+  GhostPlan plan;
+  plan.rank = rank;
+  plan.send.resize(P);
+  plan.recv.resize(P);
+  for (int q = 0; q < P; ++q) {
+    if (q == rank) continue;
+    for (uint32_t i : layout.ghosts[q])  // ascending whole-charge index
+      if (layout.owner[i] == rank) plan.send[q].push_back(static_cast<uint32_t>(at[i]));
+    for (uint32_t i : layout.ghosts[rank])
+      if (layout.owner[i] == q) plan.recv[q].push_back(static_cast<uint32_t>(at[i]));
+  }
+  plan.owned.assign(static_cast<std::size_t>(k), 0);
+  for (uint32_t i : layout.owned[rank]) plan.owned[at[i]] = 1;
+  w.remove_particles(remove);
+  return plan;
+}
+
+void pack_ghosts(const Particles& p, const std::vector<uint32_t>& idx, std::vector<double>& buf) {
+  buf.resize(idx.size() * kGhostDoubles);
+  double* b = buf.data();
+  for (uint32_t i : idx) {
+    *b++ = p.x[i], *b++ = p.y[i], *b++ = p.z[i];
+    *b++ = p.vx[i], *b++ = p.vy[i], *b++ = p.vz[i];
+    *b++ = p.wx[i], *b++ = p.wy[i], *b++ = p.wz[i];
+  }
+}
+
+void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double* b) {
+  for (uint32_t i : idx) {
+    p.x[i] = *b++, p.y[i] = *b++, p.z[i] = *b++;
+    p.vx[i] = *b++, p.vy[i] = *b++, p.vz[i] = *b++;
+    p.wx[i] = *b++, p.wy[i] = *b++, p.wz[i] = *b++;
+  }
+}
+
+namespace {
+World* load(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup) {
+  auto* w = new World(params);
+  if (setup) setup(*w);
+  std::istringstream is(checkpoint);
+  core::BinaryReader r(is, "whole-charge state");
+  w->load_state(r);
+  return w;
+}
+}  // namespace
+
+LocalDomains::LocalDomains(const std::string& checkpoint, const WorldParams& params,
+                           const std::function<void(World&)>& setup, int ranks, double reach)
+    : sectors_({0.0, 2 * M_PI}) {
+  if (ranks < 1) throw std::invalid_argument("LocalDomains: ranks must be >= 1 (got " + std::to_string(ranks) + ")");
+  std::unique_ptr<World> whole(load(checkpoint, params, setup));
+  const Particles& p = whole->particles();
+  const double r_max = p.size() ? *std::max_element(p.r.begin(), p.r.end()) : 0.0;
+  margin_ = 0.5 * (reach - 2 * r_max);
+  if (!(margin_ > 0))
+    throw std::invalid_argument("LocalDomains: the reach " + std::to_string(reach) +
+                                " m must exceed the largest contact distance 2 r_max = " + std::to_string(2 * r_max) +
+                                " m");
+  sectors_ = balanced_sectors(p.x.data(), p.y.data(), p.size(), ranks);
+  const RankLayout layout = rank_layout(sectors_, p.x.data(), p.y.data(), p.size(), reach);
+  for (int r = 0; r < ranks; ++r) {
+    worlds_.emplace_back(r == 0 && ranks == 1 ? whole.release() : load(checkpoint, params, setup));
+    plans_.push_back(cut_domain(*worlds_.back(), layout, r));
+    const Particles& q = worlds_.back()->particles();
+    std::vector<double> xc;
+    for (std::size_t i = 0; i < q.size(); ++i)
+      if (plans_.back().owned[i]) xc.insert(xc.end(), {q.x[i], q.y[i], q.z[i]});
+    x_cut_.push_back(std::move(xc));
+  }
+}
+
+double LocalDomains::max_displacement() const {
+  double d2 = 0;
+  for (int r = 0; r < ranks(); ++r) {
+    const Particles& p = worlds_[r]->particles();
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!plans_[r].owned[i]) continue;
+      const double* c = &x_cut_[r][3 * k++];
+      const double dx = p.x[i] - c[0], dy = p.y[i] - c[1], dz = p.z[i] - c[2];
+      d2 = std::max(d2, dx * dx + dy * dy + dz * dz);
+    }
+  }
+  return std::sqrt(d2);
+}
+
+void LocalDomains::exchange() {
+  std::vector<double> buf;
+  for (int r = 0; r < ranks(); ++r)
+    for (int q = 0; q < ranks(); ++q) {
+      if (plans_[r].send[q].empty()) continue;
+      pack_ghosts(worlds_[r]->particles(), plans_[r].send[q], buf);
+      unpack_ghosts(worlds_[q]->particles(), plans_[q].recv[r], buf.data());
+    }
+}
+
+void LocalDomains::step(long n) {
+  for (long s = 0; s < n; ++s) {
+    const double d = max_displacement();
+    if (d > margin_)
+      throw std::runtime_error("LocalDomains: a particle moved " + std::to_string(d) + " m since the cut, past the margin " +
+                               std::to_string(margin_) + " m (reach - 2 r_max) / 2: the charge must be cut anew");
+    for (auto& w : worlds_) w->step_begin();
+    exchange();
+    for (auto& w : worlds_) w->step_end();
+  }
+}
+
+void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
+  std::vector<std::pair<uint64_t, std::pair<int, uint32_t>>> all;
+  for (int r = 0; r < ranks(); ++r) {
+    const Particles& p = worlds_[r]->particles();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (plans_[r].owned[i]) all.push_back({p.id[i], {r, static_cast<uint32_t>(i)}});
+  }
+  std::sort(all.begin(), all.end());
+  ids.clear();
+  state.clear();
+  std::vector<double> one;
+  for (const auto& [id, at] : all) {
+    ids.push_back(id);
+    pack_ghosts(worlds_[at.first]->particles(), {at.second}, one);
+    state.insert(state.end(), one.begin(), one.end());
+  }
+}
+
+std::vector<BondBreak> LocalDomains::breaks() const {
+  std::vector<BondBreak> out;
+  for (int r = 0; r < ranks(); ++r) {
+    const World& w = *worlds_[r];
+    for (const BondBreak& b : w.breaks()) {
+      const long i = w.index_of(b.id_i);
+      if (i >= 0 && plans_[r].owned[i]) out.push_back(b);
+    }
+  }
+  return out;
+}
+
+}  // namespace dem

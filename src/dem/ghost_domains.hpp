@@ -1,0 +1,81 @@
+#pragma once
+// Ghost exchange of an azimuthal domain decomposition (issue 25), ROS-free and without MPI: how one rank's World
+// is cut from the whole charge's state, which of its particles it sends to each peer and which ghosts it receives,
+// and the exchange itself in one process (LocalDomains; the MPI engine sends the same buffers between processes).
+//
+// Each rank holds a World with the particles it owns and its ghosts (owned elsewhere, within `reach` of its wedge:
+// sector_decomposition.hpp), in the whole charge's particle order, with their bonds, contact histories and walls.
+// Every step: World::step_begin() (kick, drift), then every ghost takes its owner's x, v, w, then World::step_end()
+// (forces, kick). A pair or bond is computed on each rank that holds both particles, from the same state: an owned
+// particle gets every force it would get in one World; only the order in which its pair forces are summed differs
+// (each World's own neighbour slabs), so positions agree to round-off, not bit for bit (one rank: bit for bit).
+// What the ghosts' own forces sum to is not used.
+//
+// The layout holds while no particle has moved more than margin = (reach - 2 r_max) / 2 from where it was at the
+// cut: two particles that were `reach` apart cannot touch before. Past it the charge must be cut anew (migration:
+// not yet).
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dem/sector_decomposition.hpp"
+#include "dem/world.hpp"
+
+namespace dem {
+
+// One rank's exchange with each peer q: send[q] its owned particles that q holds as ghosts, recv[q] its ghosts that q
+// owns; indices into the rank's World, both in the whole charge's order, so that the two ends list the same
+// particles in the same order.
+struct GhostPlan {
+  int rank = 0;
+  std::vector<std::vector<uint32_t>> send, recv;
+  std::vector<char> owned;  // per particle of the rank's World: 1 owned, 0 ghost
+};
+
+// Cuts rank r's part out of a World that holds the whole charge (for example loaded from its checkpoint): removes
+// every particle the rank neither owns nor sees as a ghost (their bonds and contact histories go with them) and
+// returns the exchange plan. `layout` is rank_layout() of the whole charge's particles in the World's order.
+// Throws std::invalid_argument when the layout does not match the World's particle count, or when a bond of an
+// owned particle has its other end beyond the ghosts (reach shorter than the bond: named).
+GhostPlan cut_domain(World& w, const RankLayout& layout, int rank);
+
+// x, y, z, v, w of the listed particles: 9 doubles each, in list order.
+constexpr std::size_t kGhostDoubles = 9;
+void pack_ghosts(const Particles& p, const std::vector<uint32_t>& idx, std::vector<double>& buf);
+void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double* buf);
+
+// The decomposed charge in one process: `ranks` Worlds cut from a checkpoint of the whole charge.
+class LocalDomains {
+ public:
+  // checkpoint: World::save_state of the whole charge; setup adds the walls and interactions that the saving World
+  // had (load_state needs them). Sectors of equal particle count (balanced_sectors).
+  LocalDomains(const std::string& checkpoint, const WorldParams& params,
+               const std::function<void(World&)>& setup, int ranks, double reach);
+  int ranks() const { return static_cast<int>(worlds_.size()); }
+  World& world(int r) { return *worlds_.at(r); }
+  const GhostPlan& plan(int r) const { return plans_.at(r); }
+  const SectorDecomposition& sectors() const { return sectors_; }
+  double margin() const { return margin_; }
+  // Largest displacement of an owned particle since the cut (m).
+  double max_displacement() const;
+  // n steps of every rank with the ghost exchange; throws std::runtime_error (naming the particle, its
+  // displacement and the margin) before a step that the layout no longer covers.
+  void step(long n = 1);
+  // The owned particles' state by particle id: x, y, z, vx, vy, vz, wx, wy, wz (kGhostDoubles each), ids ascending.
+  void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
+  // Bond breaks counted once (by the rank that owns the bond's first particle), in break-log order per rank.
+  std::vector<BondBreak> breaks() const;
+
+ private:
+  void exchange();
+  std::vector<std::unique_ptr<World>> worlds_;
+  std::vector<GhostPlan> plans_;
+  std::vector<std::vector<double>> x_cut_;  // per rank, owned particles' x, y, z at the cut (3 per particle)
+  SectorDecomposition sectors_;
+  double margin_ = 0;
+};
+
+}  // namespace dem
