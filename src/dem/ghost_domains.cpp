@@ -70,8 +70,9 @@ void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double*
 }
 
 namespace {
-World* load(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup) {
-  auto* w = new World(params);
+std::unique_ptr<World> load(const std::string& checkpoint, const WorldParams& params,
+                            const std::function<void(World&)>& setup) {
+  auto w = std::make_unique<World>(params);
   if (setup) setup(*w);
   std::istringstream is(checkpoint);
   core::BinaryReader r(is, "whole-charge state");
@@ -80,74 +81,94 @@ World* load(const std::string& checkpoint, const WorldParams& params, const std:
 }
 }  // namespace
 
-LocalDomains::LocalDomains(const std::string& checkpoint, const WorldParams& params,
-                           const std::function<void(World&)>& setup, int ranks, double reach)
-    : sectors_({0.0, 2 * M_PI}) {
-  if (ranks < 1) throw std::invalid_argument("LocalDomains: ranks must be >= 1 (got " + std::to_string(ranks) + ")");
-  std::unique_ptr<World> whole(load(checkpoint, params, setup));
-  const Particles& p = whole->particles();
+Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
+                  int ranks, int rank, double reach) {
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw std::invalid_argument("cut_charge: rank " + std::to_string(rank) + " of " + std::to_string(ranks) +
+                                " ranks (accepted: 0 <= rank < ranks)");
+  Domain d;
+  d.world = load(checkpoint, params, setup);
+  const Particles& p = d.world->particles();
   const double r_max = p.size() ? *std::max_element(p.r.begin(), p.r.end()) : 0.0;
-  margin_ = 0.5 * (reach - 2 * r_max);
-  if (!(margin_ > 0))
-    throw std::invalid_argument("LocalDomains: the reach " + std::to_string(reach) +
+  d.margin = 0.5 * (reach - 2 * r_max);
+  if (!(d.margin > 0))
+    throw std::invalid_argument("cut_charge: the reach " + std::to_string(reach) +
                                 " m must exceed the largest contact distance 2 r_max = " + std::to_string(2 * r_max) +
                                 " m");
-  sectors_ = balanced_sectors(p.x.data(), p.y.data(), p.size(), ranks);
-  const RankLayout layout = rank_layout(sectors_, p.x.data(), p.y.data(), p.size(), reach);
-  for (int r = 0; r < ranks; ++r) {
-    worlds_.emplace_back(r == 0 && ranks == 1 ? whole.release() : load(checkpoint, params, setup));
-    plans_.push_back(cut_domain(*worlds_.back(), layout, r));
-    const Particles& q = worlds_.back()->particles();
-    std::vector<double> xc;
-    for (std::size_t i = 0; i < q.size(); ++i)
-      if (plans_.back().owned[i]) xc.insert(xc.end(), {q.x[i], q.y[i], q.z[i]});
-    x_cut_.push_back(std::move(xc));
+  d.sectors = balanced_sectors(p.x.data(), p.y.data(), p.size(), ranks);
+  const RankLayout layout = rank_layout(d.sectors, p.x.data(), p.y.data(), p.size(), reach);
+  d.plan = cut_domain(*d.world, layout, rank);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (d.plan.owned[i]) d.x_cut.insert(d.x_cut.end(), {p.x[i], p.y[i], p.z[i]});
+  return d;
+}
+
+double Domain::max_displacement() const {
+  const Particles& p = world->particles();
+  double d2 = 0;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!plan.owned[i]) continue;
+    const double* c = &x_cut[3 * k++];
+    const double dx = p.x[i] - c[0], dy = p.y[i] - c[1], dz = p.z[i] - c[2];
+    d2 = std::max(d2, dx * dx + dy * dy + dz * dz);
   }
+  return std::sqrt(d2);
+}
+
+void require_within_margin(double displacement, double margin) {
+  if (displacement > margin)
+    throw std::runtime_error("ghost domains: a particle moved " + std::to_string(displacement) +
+                             " m since the cut, past the margin " + std::to_string(margin) +
+                             " m, (reach - 2 r_max) / 2: the charge must be cut anew");
+}
+
+std::vector<BondBreak> owned_breaks(const World& w, const GhostPlan& plan) {
+  std::vector<BondBreak> out;
+  for (const BondBreak& b : w.breaks()) {
+    const long i = w.index_of(b.id_i);
+    if (i >= 0 && plan.owned[i]) out.push_back(b);
+  }
+  return out;
+}
+
+LocalDomains::LocalDomains(const std::string& checkpoint, const WorldParams& params,
+                           const std::function<void(World&)>& setup, int ranks, double reach) {
+  if (ranks < 1) throw std::invalid_argument("LocalDomains: ranks must be >= 1 (got " + std::to_string(ranks) + ")");
+  for (int r = 0; r < ranks; ++r) domains_.push_back(cut_charge(checkpoint, params, setup, ranks, r, reach));
 }
 
 double LocalDomains::max_displacement() const {
-  double d2 = 0;
-  for (int r = 0; r < ranks(); ++r) {
-    const Particles& p = worlds_[r]->particles();
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (!plans_[r].owned[i]) continue;
-      const double* c = &x_cut_[r][3 * k++];
-      const double dx = p.x[i] - c[0], dy = p.y[i] - c[1], dz = p.z[i] - c[2];
-      d2 = std::max(d2, dx * dx + dy * dy + dz * dz);
-    }
-  }
-  return std::sqrt(d2);
+  double d = 0;
+  for (const Domain& x : domains_) d = std::max(d, x.max_displacement());
+  return d;
 }
 
 void LocalDomains::exchange() {
   std::vector<double> buf;
   for (int r = 0; r < ranks(); ++r)
     for (int q = 0; q < ranks(); ++q) {
-      if (plans_[r].send[q].empty()) continue;
-      pack_ghosts(worlds_[r]->particles(), plans_[r].send[q], buf);
-      unpack_ghosts(worlds_[q]->particles(), plans_[q].recv[r], buf.data());
+      if (domains_[r].plan.send[q].empty()) continue;
+      pack_ghosts(domains_[r].world->particles(), domains_[r].plan.send[q], buf);
+      unpack_ghosts(domains_[q].world->particles(), domains_[q].plan.recv[r], buf.data());
     }
 }
 
 void LocalDomains::step(long n) {
   for (long s = 0; s < n; ++s) {
-    const double d = max_displacement();
-    if (d > margin_)
-      throw std::runtime_error("LocalDomains: a particle moved " + std::to_string(d) + " m since the cut, past the margin " +
-                               std::to_string(margin_) + " m (reach - 2 r_max) / 2: the charge must be cut anew");
-    for (auto& w : worlds_) w->step_begin();
+    require_within_margin(max_displacement(), margin());
+    for (Domain& d : domains_) d.world->step_begin();
     exchange();
-    for (auto& w : worlds_) w->step_end();
+    for (Domain& d : domains_) d.world->step_end();
   }
 }
 
 void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
   std::vector<std::pair<uint64_t, std::pair<int, uint32_t>>> all;
   for (int r = 0; r < ranks(); ++r) {
-    const Particles& p = worlds_[r]->particles();
+    const Particles& p = domains_[r].world->particles();
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (plans_[r].owned[i]) all.push_back({p.id[i], {r, static_cast<uint32_t>(i)}});
+      if (domains_[r].plan.owned[i]) all.push_back({p.id[i], {r, static_cast<uint32_t>(i)}});
   }
   std::sort(all.begin(), all.end());
   ids.clear();
@@ -155,19 +176,16 @@ void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& 
   std::vector<double> one;
   for (const auto& [id, at] : all) {
     ids.push_back(id);
-    pack_ghosts(worlds_[at.first]->particles(), {at.second}, one);
+    pack_ghosts(domains_[at.first].world->particles(), {at.second}, one);
     state.insert(state.end(), one.begin(), one.end());
   }
 }
 
 std::vector<BondBreak> LocalDomains::breaks() const {
   std::vector<BondBreak> out;
-  for (int r = 0; r < ranks(); ++r) {
-    const World& w = *worlds_[r];
-    for (const BondBreak& b : w.breaks()) {
-      const long i = w.index_of(b.id_i);
-      if (i >= 0 && plans_[r].owned[i]) out.push_back(b);
-    }
+  for (const Domain& d : domains_) {
+    const auto b = owned_breaks(*d.world, d.plan);
+    out.insert(out.end(), b.begin(), b.end());
   }
   return out;
 }

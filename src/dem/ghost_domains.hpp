@@ -14,6 +14,7 @@
 // The layout holds while no particle has moved more than margin = (reach - 2 r_max) / 2 from where it was at the
 // cut: two particles that were `reach` apart cannot touch before. Past it the charge must be cut anew (migration:
 // not yet).
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -47,6 +48,26 @@ constexpr std::size_t kGhostDoubles = 9;
 void pack_ghosts(const Particles& p, const std::vector<uint32_t>& idx, std::vector<double>& buf);
 void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double* buf);
 
+// One rank's part of the charge: its World, exchange plan and owned particles' positions at the cut.
+struct Domain {
+  std::unique_ptr<World> world;
+  GhostPlan plan;
+  std::vector<double> x_cut;  // owned particles' x, y, z at the cut, in World order
+  double margin = 0;          // (reach - 2 r_max) / 2 of the whole charge (m)
+  SectorDecomposition sectors{{0.0, 2 * M_PI}};
+  double max_displacement() const;  // largest displacement of an owned particle since the cut (m)
+};
+
+// Rank `rank` of `ranks`: loads the whole charge's checkpoint (World::save_state) into a World made with params and
+// setup (the walls and interactions the saving World had), cuts equal-count sectors (balanced_sectors) and keeps the
+// rank's part. Every rank computes the same layout from the same bytes. Throws std::invalid_argument on a reach not
+// above the largest contact distance 2 r_max, or one shorter than a bond across a boundary.
+Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
+                  int ranks, int rank, double reach);
+
+// Throws std::runtime_error when a particle moved past the margin since the cut (the layout no longer covers it).
+void require_within_margin(double displacement, double margin);
+
 // The decomposed charge in one process: `ranks` Worlds cut from a checkpoint of the whole charge.
 class LocalDomains {
  public:
@@ -54,15 +75,15 @@ class LocalDomains {
   // had (load_state needs them). Sectors of equal particle count (balanced_sectors).
   LocalDomains(const std::string& checkpoint, const WorldParams& params,
                const std::function<void(World&)>& setup, int ranks, double reach);
-  int ranks() const { return static_cast<int>(worlds_.size()); }
-  World& world(int r) { return *worlds_.at(r); }
-  const GhostPlan& plan(int r) const { return plans_.at(r); }
-  const SectorDecomposition& sectors() const { return sectors_; }
-  double margin() const { return margin_; }
+  int ranks() const { return static_cast<int>(domains_.size()); }
+  World& world(int r) { return *domains_.at(r).world; }
+  const GhostPlan& plan(int r) const { return domains_.at(r).plan; }
+  const SectorDecomposition& sectors() const { return domains_.at(0).sectors; }
+  double margin() const { return domains_.at(0).margin; }
   // Largest displacement of an owned particle since the cut (m).
   double max_displacement() const;
-  // n steps of every rank with the ghost exchange; throws std::runtime_error (naming the particle, its
-  // displacement and the margin) before a step that the layout no longer covers.
+  // n steps of every rank with the ghost exchange; throws std::runtime_error (naming the displacement and the
+  // margin) before a step that the layout no longer covers.
   void step(long n = 1);
   // The owned particles' state by particle id: x, y, z, vx, vy, vz, wx, wy, wz (kGhostDoubles each), ids ascending.
   void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
@@ -71,11 +92,10 @@ class LocalDomains {
 
  private:
   void exchange();
-  std::vector<std::unique_ptr<World>> worlds_;
-  std::vector<GhostPlan> plans_;
-  std::vector<std::vector<double>> x_cut_;  // per rank, owned particles' x, y, z at the cut (3 per particle)
-  SectorDecomposition sectors_;
-  double margin_ = 0;
+  std::vector<Domain> domains_;
 };
+
+// Breaks in w's log counted by this rank: those whose first particle it owns.
+std::vector<BondBreak> owned_breaks(const World& w, const GhostPlan& plan);
 
 }  // namespace dem

@@ -1,0 +1,127 @@
+#include "parallel/mpi_domain.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace parallel {
+
+namespace {
+int rank_of(MPI_Comm c) {
+  int r = 0;
+  MPI_Comm_rank(c, &r);
+  return r;
+}
+int size_of(MPI_Comm c) {
+  int n = 1;
+  MPI_Comm_size(c, &n);
+  return n;
+}
+
+// Rank 0 gets every rank's bytes, concatenated in rank order.
+std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine) {
+  const int size = size_of(comm), rank = rank_of(comm);
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(size), displs(size);
+  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
+  std::vector<char> all;
+  if (rank == 0) {
+    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
+    all.resize(static_cast<std::size_t>(displs[size - 1] + counts[size - 1]));
+  }
+  MPI_Gatherv(mine.data(), n, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR, 0, comm);
+  return all;
+}
+
+template <class T>
+std::vector<char> bytes_of(const std::vector<T>& v) {
+  const char* b = reinterpret_cast<const char*>(v.data());
+  return std::vector<char>(b, b + v.size() * sizeof(T));
+}
+template <class T>
+std::vector<T> from_bytes(const std::vector<char>& b) {
+  std::vector<T> v(b.size() / sizeof(T));
+  std::copy(b.begin(), b.begin() + static_cast<long>(v.size() * sizeof(T)), reinterpret_cast<char*>(v.data()));
+  return v;
+}
+}  // namespace
+
+std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root) {
+  unsigned long long n = on_root.size();
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  std::string s = rank_of(comm) == 0 ? on_root : std::string(n, '\0');
+  for (unsigned long long off = 0; off < n;) {  // in pieces under INT_MAX bytes
+    const int piece = static_cast<int>(std::min<unsigned long long>(n - off, 1ull << 30));
+    MPI_Bcast(&s[off], piece, MPI_CHAR, 0, comm);
+    off += static_cast<unsigned long long>(piece);
+  }
+  return s;
+}
+
+MpiDomain::MpiDomain(MPI_Comm comm, const std::string& checkpoint, const dem::WorldParams& params,
+                     const std::function<void(dem::World&)>& setup, double reach)
+    : comm_(comm), rank_(rank_of(comm)), size_(size_of(comm)),
+      d_(dem::cut_charge(checkpoint, params, setup, size_of(comm), rank_of(comm), reach)),
+      out_(static_cast<std::size_t>(size_)), in_(static_cast<std::size_t>(size_)) {}
+
+double MpiDomain::max_displacement() const {
+  double mine = d_.max_displacement(), all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return all;
+}
+
+void MpiDomain::exchange() {
+  std::vector<MPI_Request> req;
+  for (int q = 0; q < size_; ++q) {
+    if (d_.plan.recv[q].empty()) continue;
+    in_[q].resize(d_.plan.recv[q].size() * dem::kGhostDoubles);
+    req.emplace_back();
+    MPI_Irecv(in_[q].data(), static_cast<int>(in_[q].size()), MPI_DOUBLE, q, 0, comm_, &req.back());
+  }
+  for (int q = 0; q < size_; ++q) {
+    if (d_.plan.send[q].empty()) continue;
+    dem::pack_ghosts(d_.world->particles(), d_.plan.send[q], out_[q]);
+    req.emplace_back();
+    MPI_Isend(out_[q].data(), static_cast<int>(out_[q].size()), MPI_DOUBLE, q, 0, comm_, &req.back());
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (int q = 0; q < size_; ++q)
+    if (!d_.plan.recv[q].empty()) dem::unpack_ghosts(d_.world->particles(), d_.plan.recv[q], in_[q].data());
+}
+
+void MpiDomain::step(long n) {
+  for (long s = 0; s < n; ++s) {
+    dem::require_within_margin(max_displacement(), d_.margin);
+    d_.world->step_begin();
+    exchange();
+    d_.world->step_end();
+  }
+}
+
+void MpiDomain::gather_owned(std::vector<uint64_t>& ids, std::vector<double>& state) const {
+  const dem::Particles& p = d_.world->particles();
+  std::vector<uint64_t> my_ids;
+  std::vector<uint32_t> idx;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (d_.plan.owned[i]) my_ids.push_back(p.id[i]), idx.push_back(static_cast<uint32_t>(i));
+  std::vector<double> my_state;
+  dem::pack_ghosts(p, idx, my_state);
+  const auto all_ids = from_bytes<uint64_t>(gather_bytes(comm_, bytes_of(my_ids)));
+  const auto all_state = from_bytes<double>(gather_bytes(comm_, bytes_of(my_state)));
+  ids.clear();
+  state.clear();
+  if (rank_ != 0) return;
+  std::vector<std::size_t> order(all_ids.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all_ids[a] < all_ids[b]; });
+  for (std::size_t k : order) {
+    ids.push_back(all_ids[k]);
+    state.insert(state.end(), all_state.begin() + static_cast<long>(k * dem::kGhostDoubles),
+                 all_state.begin() + static_cast<long>((k + 1) * dem::kGhostDoubles));
+  }
+}
+
+std::vector<dem::BondBreak> MpiDomain::gather_breaks() const {
+  return from_bytes<dem::BondBreak>(gather_bytes(comm_, bytes_of(dem::owned_breaks(*d_.world, d_.plan))));
+}
+
+}  // namespace parallel

@@ -1,0 +1,54 @@
+#pragma once
+// One rank's part of the decomposed charge over MPI (issue 25): the ghost exchange of dem/ghost_domains.hpp with
+// the buffers sent between processes instead of copied. ROS-free; the only library that links MPI.
+//
+// Every rank cuts its part from the same whole-charge checkpoint (broadcast from rank 0), so all compute the same
+// layout. A step: World::step_begin(), each rank sends its owned particles' x, v, w to the peers that hold them as
+// ghosts and takes its ghosts' from their owners (non-blocking, one message per peer and direction), then
+// World::step_end(). A run on P ranks equals LocalDomains with P ranks in one process bit for bit (the same Worlds
+// take the same steps). Before each step the ranks agree (MPI_Allreduce) that no particle has left the layout's
+// margin; past it every rank throws (migration, the charge cut anew: not yet).
+#include <mpi.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/ghost_domains.hpp"
+
+namespace parallel {
+
+// Rank 0's bytes on every rank of comm.
+std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root);
+
+class MpiDomain {
+ public:
+  // Collective. checkpoint: the whole charge's World::save_state, the same on every rank; setup: the walls and
+  // interactions of the saving World.
+  MpiDomain(MPI_Comm comm, const std::string& checkpoint, const dem::WorldParams& params,
+            const std::function<void(dem::World&)>& setup, double reach);
+  int rank() const { return rank_; }
+  int ranks() const { return size_; }
+  dem::World& world() { return *d_.world; }
+  const dem::GhostPlan& plan() const { return d_.plan; }
+  double margin() const { return d_.margin; }
+  // Collective: n steps with the ghost exchange.
+  void step(long n = 1);
+  // Collective: the largest displacement of any rank's owned particle since the cut (m).
+  double max_displacement() const;
+  // Collective: on rank 0 every owned particle's x, v, w by id (kGhostDoubles each, ids ascending); empty elsewhere.
+  void gather_owned(std::vector<uint64_t>& ids, std::vector<double>& state) const;
+  // Collective: on rank 0 the breaks each rank counts (dem::owned_breaks); empty elsewhere.
+  std::vector<dem::BondBreak> gather_breaks() const;
+
+ private:
+  void exchange();
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+  dem::Domain d_;
+  std::vector<std::vector<double>> out_, in_;  // per peer: send and receive buffers
+};
+
+}  // namespace parallel
