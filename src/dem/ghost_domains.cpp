@@ -116,11 +116,15 @@ double Domain::max_displacement() const {
   return std::sqrt(d2);
 }
 
-void require_within_margin(double displacement, double margin) {
-  if (displacement > margin)
-    throw std::runtime_error("ghost domains: a particle moved " + std::to_string(displacement) +
-                             " m since the cut, past the margin " + std::to_string(margin) +
-                             " m, (reach - 2 r_max) / 2: the charge must be cut anew");
+std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                            const WorldParams& params, const std::function<void(World&)>& setup) {
+  World whole(params);
+  if (setup) setup(whole);
+  whole.assemble(parts, owned);
+  std::ostringstream os;
+  core::BinaryWriter w(os);
+  whole.save_state(w);
+  return os.str();
 }
 
 std::vector<BondBreak> owned_breaks(const World& w, const GhostPlan& plan) {
@@ -133,9 +137,21 @@ std::vector<BondBreak> owned_breaks(const World& w, const GhostPlan& plan) {
 }
 
 LocalDomains::LocalDomains(const std::string& checkpoint, const WorldParams& params,
-                           const std::function<void(World&)>& setup, int ranks, double reach) {
+                           const std::function<void(World&)>& setup, int ranks, double reach)
+    : params_(params), setup_(setup), reach_(reach) {
   if (ranks < 1) throw std::invalid_argument("LocalDomains: ranks must be >= 1 (got " + std::to_string(ranks) + ")");
   for (int r = 0; r < ranks; ++r) domains_.push_back(cut_charge(checkpoint, params, setup, ranks, r, reach));
+}
+
+void LocalDomains::recut() {
+  std::vector<const World*> parts;
+  std::vector<std::vector<char>> owned;
+  for (const Domain& d : domains_) parts.push_back(d.world.get()), owned.push_back(d.plan.owned);
+  const std::string whole = assemble_charge(parts, owned, params_, setup_);
+  const int P = ranks();
+  domains_.clear();
+  for (int r = 0; r < P; ++r) domains_.push_back(cut_charge(whole, params_, setup_, P, r, reach_));
+  ++recuts_;
 }
 
 double LocalDomains::max_displacement() const {
@@ -156,7 +172,7 @@ void LocalDomains::exchange() {
 
 void LocalDomains::step(long n) {
   for (long s = 0; s < n; ++s) {
-    require_within_margin(max_displacement(), margin());
+    if (max_displacement() > margin()) recut();
     for (Domain& d : domains_) d.world->step_begin();
     exchange();
     for (Domain& d : domains_) d.world->step_end();

@@ -12,8 +12,9 @@
 // What the ghosts' own forces sum to is not used.
 //
 // The layout holds while no particle has moved more than margin = (reach - 2 r_max) / 2 from where it was at the
-// cut: two particles that were `reach` apart cannot touch before. Past it the charge must be cut anew (migration:
-// not yet).
+// cut: two particles that were `reach` apart cannot touch before. Then the charge is cut anew: put back together
+// from the owned particles (World::assemble) and cut into rebalanced sectors, so particles change owner with their
+// bonds, contact histories and break logs (through one process; MPI: through rank 0).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -65,8 +66,11 @@ struct Domain {
 Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
                   int ranks, int rank, double reach);
 
-// Throws std::runtime_error when a particle moved past the margin since the cut (the layout no longer covers it).
-void require_within_margin(double displacement, double margin);
+// The whole charge put back together from the domains' Worlds (World::assemble of their owned particles), saved as
+// a checkpoint for cut_charge: how the charge is cut anew once the margin is spent (particles change owner, sectors
+// are rebalanced). setup: as for cut_charge.
+std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                            const WorldParams& params, const std::function<void(World&)>& setup);
 
 // The decomposed charge in one process: `ranks` Worlds cut from a checkpoint of the whole charge.
 class LocalDomains {
@@ -82,9 +86,10 @@ class LocalDomains {
   double margin() const { return domains_.at(0).margin; }
   // Largest displacement of an owned particle since the cut (m).
   double max_displacement() const;
-  // n steps of every rank with the ghost exchange; throws std::runtime_error (naming the displacement and the
-  // margin) before a step that the layout no longer covers.
+  // n steps of every rank with the ghost exchange; the charge is cut anew before a step that the layout no longer
+  // covers.
   void step(long n = 1);
+  int recuts() const { return recuts_; }  // how often the charge was cut anew
   // The owned particles' state by particle id: x, y, z, vx, vy, vz, wx, wy, wz (kGhostDoubles each), ids ascending.
   void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
   // Bond breaks counted once (by the rank that owns the bond's first particle), in break-log order per rank.
@@ -92,6 +97,11 @@ class LocalDomains {
 
  private:
   void exchange();
+  void recut();
+  WorldParams params_;
+  std::function<void(World&)> setup_;
+  double reach_ = 0;
+  int recuts_ = 0;
   std::vector<Domain> domains_;
 };
 

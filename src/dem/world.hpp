@@ -174,6 +174,16 @@ class World {
   // file. On an error the World's own state is unchanged; interactions read before the failing block may have
   // been restored, so do not step such a World.
   void load_state(core::BinaryReader& r);
+  // Replaces this World's state by the union of the parts' owned particles (owned[k][i] != 0: part k owns its
+  // particle i; every particle id owned once), the whole charge of a domain decomposition put back together
+  // (ghost_domains.hpp re-cuts it). Particles in ascending id order with every per-particle array, wall histories
+  // and flags; the bonds (broken ones of the last step too) and touching or sliding neighbour pairs (histories,
+  // touch flags) whose first particle a part owns, from that part, sorted by their particles; each part's breaks of
+  // bonds whose first particle it owns, by time; walls, time, counters, skin and dt from parts[0]. As after
+  // load_state, the next step rebuilds the neighbour list. Throws std::invalid_argument on a mask of the wrong size,
+  // an id owned twice, a bond or pair whose second particle is not in its part, or an interaction in any World
+  // (their states are not put back together yet).
+  void assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned);
 
  private:
   struct BondOutSlot {  // force on j (i gets -f), torques on i and j

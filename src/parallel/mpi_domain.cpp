@@ -1,6 +1,8 @@
 #include "parallel/mpi_domain.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 
 namespace parallel {
@@ -60,6 +62,7 @@ std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root) {
 MpiDomain::MpiDomain(MPI_Comm comm, const std::string& checkpoint, const dem::WorldParams& params,
                      const std::function<void(dem::World&)>& setup, double reach)
     : comm_(comm), rank_(rank_of(comm)), size_(size_of(comm)),
+      params_(params), setup_(setup), reach_(reach),
       d_(dem::cut_charge(checkpoint, params, setup, size_of(comm), rank_of(comm), reach)),
       out_(static_cast<std::size_t>(size_)), in_(static_cast<std::size_t>(size_)) {}
 
@@ -90,11 +93,49 @@ void MpiDomain::exchange() {
 
 void MpiDomain::step(long n) {
   for (long s = 0; s < n; ++s) {
-    dem::require_within_margin(max_displacement(), d_.margin);
+    if (max_displacement() > d_.margin) recut();
     d_.world->step_begin();
     exchange();
     d_.world->step_end();
   }
+}
+
+// Through rank 0: every rank's World and ownership mask to it, the whole charge assembled and broadcast, each rank
+// cuts its new part.
+void MpiDomain::recut() {
+  std::ostringstream os;
+  core::BinaryWriter w(os);
+  d_.world->save_state(w);
+  const std::string mine = os.str();
+  const std::vector<char> world_bytes = gather_bytes(comm_, std::vector<char>(mine.begin(), mine.end()));
+  const std::vector<char> mask_bytes = gather_bytes(comm_, d_.plan.owned);
+  std::vector<int> sizes(static_cast<std::size_t>(size_)), counts(static_cast<std::size_t>(size_));
+  const int n_mine = static_cast<int>(mine.size()), n_mask = static_cast<int>(d_.plan.owned.size());
+  MPI_Gather(&n_mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, comm_);
+  MPI_Gather(&n_mask, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+  std::string whole;
+  if (rank_ == 0) {
+    std::vector<std::unique_ptr<dem::World>> parts;
+    std::vector<const dem::World*> views;
+    std::vector<std::vector<char>> owned;
+    std::size_t at = 0, mat = 0;
+    for (int r = 0; r < size_; ++r) {
+      parts.push_back(std::make_unique<dem::World>(params_));
+      if (setup_) setup_(*parts.back());
+      std::istringstream is(std::string(world_bytes.begin() + static_cast<long>(at),
+                                        world_bytes.begin() + static_cast<long>(at + sizes[r])));
+      core::BinaryReader rd(is, "rank " + std::to_string(r) + "'s part");
+      parts.back()->load_state(rd);
+      views.push_back(parts.back().get());
+      owned.emplace_back(mask_bytes.begin() + static_cast<long>(mat), mask_bytes.begin() + static_cast<long>(mat + counts[r]));
+      at += static_cast<std::size_t>(sizes[r]);
+      mat += static_cast<std::size_t>(counts[r]);
+    }
+    whole = dem::assemble_charge(views, owned, params_, setup_);
+  }
+  whole = broadcast_bytes(comm_, whole);
+  d_ = dem::cut_charge(whole, params_, setup_, size_, rank_, reach_);
+  ++recuts_;
 }
 
 void MpiDomain::gather_owned(std::vector<uint64_t>& ids, std::vector<double>& state) const {

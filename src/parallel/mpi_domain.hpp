@@ -6,8 +6,9 @@
 // layout. A step: World::step_begin(), each rank sends its owned particles' x, v, w to the peers that hold them as
 // ghosts and takes its ghosts' from their owners (non-blocking, one message per peer and direction), then
 // World::step_end(). A run on P ranks equals LocalDomains with P ranks in one process bit for bit (the same Worlds
-// take the same steps). Before each step the ranks agree (MPI_Allreduce) that no particle has left the layout's
-// margin; past it every rank throws (migration, the charge cut anew: not yet).
+// take the same steps). Before each step the ranks agree (MPI_Allreduce) whether a particle has left the layout's
+// margin; then the charge is cut anew through rank 0 (every rank's World to it, the whole charge assembled and
+// broadcast: O(N) traffic per re-cut; sending only the particles that cross is the scalable form, not yet).
 #include <mpi.h>
 
 #include <cstdint>
@@ -34,8 +35,9 @@ class MpiDomain {
   dem::World& world() { return *d_.world; }
   const dem::GhostPlan& plan() const { return d_.plan; }
   double margin() const { return d_.margin; }
-  // Collective: n steps with the ghost exchange.
+  // Collective: n steps with the ghost exchange, the charge cut anew when the margin is spent.
   void step(long n = 1);
+  int recuts() const { return recuts_; }
   // Collective: the largest displacement of any rank's owned particle since the cut (m).
   double max_displacement() const;
   // Collective: on rank 0 every owned particle's x, v, w by id (kGhostDoubles each, ids ascending); empty elsewhere.
@@ -45,8 +47,13 @@ class MpiDomain {
 
  private:
   void exchange();
+  void recut();
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
+  dem::WorldParams params_;
+  std::function<void(dem::World&)> setup_;
+  double reach_ = 0;
+  int recuts_ = 0;
   dem::Domain d_;
   std::vector<std::vector<double>> out_, in_;  // per peer: send and receive buffers
 };

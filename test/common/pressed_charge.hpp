@@ -83,7 +83,15 @@ struct Reference {
   std::vector<uint64_t> ids;
   std::vector<double> x;
   std::vector<std::pair<uint64_t, uint64_t>> breaks;
+  std::vector<std::pair<uint64_t, uint64_t>> bonds;  // intact, by particle ids, sorted
 };
+
+// The intact bonds of a World whose first particle is owned (all: owned empty), by particle ids.
+inline void add_intact_bonds(const dem::World& w, const std::vector<char>& owned,
+                             std::vector<std::pair<uint64_t, uint64_t>>& out) {
+  for (const dem::Bond& b : w.bonds())
+    if (b.alive && (owned.empty() || owned[b.i])) out.push_back({w.particles().id[b.i], w.particles().id[b.j]});
+}
 
 inline Reference reference(long n) {
   dem::World w(params());
@@ -100,6 +108,8 @@ inline Reference reference(long n) {
   dem::pack_ghosts(p, all, ref.x);
   for (std::size_t k = before; k < w.breaks().size(); ++k) ref.breaks.push_back({w.breaks()[k].id_i, w.breaks()[k].id_j});
   std::sort(ref.breaks.begin(), ref.breaks.end());
+  add_intact_bonds(w, {}, ref.bonds);
+  std::sort(ref.bonds.begin(), ref.bonds.end());
   return ref;
 }
 
