@@ -116,6 +116,58 @@ double Domain::max_displacement() const {
   return std::sqrt(d2);
 }
 
+void save_domain(Domain& d, core::BinaryWriter& w) {
+  w.tag("DOMN");
+  const int64_t P = static_cast<int64_t>(d.plan.send.size());
+  w.put<int64_t>(P);
+  w.put<int64_t>(d.plan.rank);
+  w.put<double>(d.margin);
+  w.put_vec(d.sectors.bounds());
+  for (int64_t q = 0; q < P; ++q) {
+    w.put_vec(d.plan.send[q]);
+    w.put_vec(d.plan.recv[q]);
+  }
+  w.put_vec(d.plan.owned);
+  w.put_vec(d.x_cut);
+  d.world->save_state(w);
+}
+
+Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::function<void(World&)>& setup,
+                   int ranks, int rank) {
+  r.expect("DOMN");
+  const int64_t P = r.get<int64_t>(), R = r.get<int64_t>();
+  if (P != ranks || R != rank)
+    r.fail("written by rank " + std::to_string(R) + " of " + std::to_string(P) + ", read by rank " +
+           std::to_string(rank) + " of " + std::to_string(ranks) + " (resume with " + std::to_string(P) + " ranks)");
+  Domain d;
+  d.margin = r.get<double>();
+  std::vector<double> bounds;
+  r.get_vec(bounds, 1u << 20);
+  if (bounds.size() != static_cast<std::size_t>(P) + 1) r.fail("sector bounds do not match the rank count");
+  d.sectors = SectorDecomposition(bounds);
+  d.plan.rank = rank;
+  d.plan.send.resize(P);
+  d.plan.recv.resize(P);
+  for (int64_t q = 0; q < P; ++q) {
+    r.get_vec(d.plan.send[q]);
+    r.get_vec(d.plan.recv[q]);
+  }
+  r.get_vec(d.plan.owned);
+  r.get_vec(d.x_cut);
+  d.world = std::make_unique<World>(params);
+  if (setup) setup(*d.world);
+  d.world->load_state(r);
+  const std::size_t n = d.world->particles().size();
+  std::size_t n_owned = 0;
+  for (char o : d.plan.owned) n_owned += o ? 1 : 0;
+  bool in_range = d.plan.owned.size() == n && d.x_cut.size() == 3 * n_owned;
+  for (int64_t q = 0; q < P; ++q)
+    for (const auto* v : {&d.plan.send[q], &d.plan.recv[q]})
+      for (uint32_t i : *v) in_range = in_range && i < n;
+  if (!in_range) r.fail("the domain's exchange plan does not match its particles");
+  return d;
+}
+
 std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
                             const WorldParams& params, const std::function<void(World&)>& setup) {
   World whole(params);

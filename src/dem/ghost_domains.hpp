@@ -66,6 +66,14 @@ struct Domain {
 Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
                   int ranks, int rank, double reach);
 
+// A rank's part as it stands between two steps, for a checkpoint per rank: the World (World::save_state), the plan,
+// the positions at the cut, the margin and the sectors (block "DOMN"). load_domain restores it into a World made with
+// params and setup, so that the rank continues bit for bit; it throws std::runtime_error naming what does not match
+// (a rank or rank count other than the caller's, a damaged file).
+void save_domain(Domain& d, core::BinaryWriter& w);
+Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::function<void(World&)>& setup,
+                   int ranks, int rank);
+
 // The whole charge put back together from the domains' Worlds (World::assemble of their owned particles), saved as
 // a checkpoint for cut_charge: how the charge is cut anew once the margin is spent (particles change owner, sectors
 // are rebalanced). setup: as for cut_charge.

@@ -1,6 +1,9 @@
 #include "parallel/mpi_domain.hpp"
 
+#include "core/atomic_file.hpp"
+
 #include <algorithm>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -65,6 +68,49 @@ MpiDomain::MpiDomain(MPI_Comm comm, const std::string& checkpoint, const dem::Wo
       params_(params), setup_(setup), reach_(reach),
       d_(dem::cut_charge(checkpoint, params, setup, size_of(comm), rank_of(comm), reach)),
       out_(static_cast<std::size_t>(size_)), in_(static_cast<std::size_t>(size_)) {}
+
+MpiDomain::MpiDomain(MPI_Comm comm, const dem::WorldParams& params, const std::function<void(dem::World&)>& setup)
+    : comm_(comm), rank_(rank_of(comm)), size_(size_of(comm)), params_(params), setup_(setup),
+      out_(static_cast<std::size_t>(size_)), in_(static_cast<std::size_t>(size_)) {}
+
+std::string MpiDomain::rank_file(const std::string& prefix, int rank, int ranks) {
+  return prefix + ".rank" + std::to_string(rank) + "-of-" + std::to_string(ranks);
+}
+
+void MpiDomain::save(const std::string& prefix) {
+  std::ostringstream os;
+  core::BinaryWriter w(os);
+  w.put<double>(reach_);
+  w.put<int64_t>(recuts_);
+  dem::save_domain(d_, w);
+  const std::string err = core::write_file_atomically(rank_file(prefix, rank_, size_), os.str());
+  int bad = err.empty() ? 0 : 1, any = 0;
+  MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm_);
+  if (!err.empty()) throw std::runtime_error(err);
+  if (any) throw std::runtime_error("MpiDomain::save: another rank could not write its part of " + prefix);
+}
+
+MpiDomain MpiDomain::resume(MPI_Comm comm, const std::string& prefix, const dem::WorldParams& params,
+                            const std::function<void(dem::World&)>& setup) {
+  MpiDomain m(comm, params, setup);
+  const std::string path = rank_file(prefix, m.rank_, m.size_);
+  std::string err;
+  try {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error("cannot open " + path + " (written by a run on another rank count?)");
+    core::BinaryReader r(f, path);
+    m.reach_ = r.get<double>();
+    m.recuts_ = static_cast<int>(r.get<int64_t>());
+    m.d_ = dem::load_domain(r, params, setup, m.size_, m.rank_);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  int bad = err.empty() ? 0 : 1, any = 0;
+  MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_MAX, comm);
+  if (!err.empty()) throw std::runtime_error(err);
+  if (any) throw std::runtime_error("MpiDomain::resume: another rank could not read its part of " + prefix);
+  return m;
+}
 
 double MpiDomain::max_displacement() const {
   double mine = d_.max_displacement(), all = 0;

@@ -30,6 +30,13 @@ class MpiDomain {
   // interactions of the saving World.
   MpiDomain(MPI_Comm comm, const std::string& checkpoint, const dem::WorldParams& params,
             const std::function<void(dem::World&)>& setup, double reach);
+  // Collective: resumes from the files save() wrote (the same rank count), continuing bit for bit.
+  static MpiDomain resume(MPI_Comm comm, const std::string& prefix, const dem::WorldParams& params,
+                          const std::function<void(dem::World&)>& setup);
+  // Collective: each rank writes its part to PREFIX.rank<r>-of-<P> (whole files, through a rename); throws
+  // std::runtime_error on every rank when any rank could not write (its message names the file).
+  void save(const std::string& prefix);
+  static std::string rank_file(const std::string& prefix, int rank, int ranks);
   int rank() const { return rank_; }
   int ranks() const { return size_; }
   dem::World& world() { return *d_.world; }
@@ -46,6 +53,7 @@ class MpiDomain {
   std::vector<dem::BondBreak> gather_breaks() const;
 
  private:
+  MpiDomain(MPI_Comm comm, const dem::WorldParams& params, const std::function<void(dem::World&)>& setup);
   void exchange();
   void recut();
   MPI_Comm comm_;

@@ -2,13 +2,15 @@
 // (oversubscribed on 2 cores). The pressed charge (test/common/pressed_charge.hpp) stepped on the ranks equals the
 // same cut in one process (LocalDomains) bit for bit, and the whole charge in one World bit for bit on one rank and
 // to round-off on more (the bound and its reason: test/dem/test_ghost_domains.cpp); every particle is owned once,
-// the breaks are the whole World's; re-cuts through rank 0 give the one process's re-cuts bit for bit.
+// the breaks are the whole World's; re-cuts through rank 0 give the one process's re-cuts bit for bit; a run resumed
+// from its checkpoint per rank continues bit for bit.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <unistd.h>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,51 @@ TEST(MpiDomain, CutsTheChargeAnewLikeOneProcess) {
   ASSERT_EQ(x.size(), lx.size());
   EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
   EXPECT_EQ(breaks_after_cut(breaks), breaks_after_cut(local.breaks()));
+}
+
+TEST(MpiDomain, ResumesFromItsCheckpointBitForBit) {
+  // 200 steps, a checkpoint per rank, 400 more (re-cuts before and after it); a run resumed from the files takes the
+  // same 400 steps
+  std::string dir;
+  if (rank_is_root()) {
+    char tmpl[] = "/tmp/test_parallel_XXXXXX";
+    ASSERT_NE(mkdtemp(tmpl), nullptr);
+    dir = tmpl;
+  }
+  dir = parallel::broadcast_bytes(MPI_COMM_WORLD, dir);
+  const std::string prefix = dir + "/charge";
+  parallel::MpiDomain d(MPI_COMM_WORLD, state(), params(), walls, 2e-3 + 0.2e-3);
+  d.step(200);
+  d.save(prefix);
+  const int recuts_at_save = d.recuts();
+  d.step(400);
+  std::vector<uint64_t> ids, rids;
+  std::vector<double> x, rx;
+  d.gather_owned(ids, x);
+  parallel::MpiDomain r = parallel::MpiDomain::resume(MPI_COMM_WORLD, prefix, params(), walls);
+  EXPECT_EQ(r.recuts(), recuts_at_save);
+  r.step(400);
+  EXPECT_EQ(r.recuts(), d.recuts());
+  EXPECT_GT(d.recuts(), recuts_at_save);
+  r.gather_owned(rids, rx);
+  // a prefix no run wrote: every rank refuses, naming its file
+  int refused = 0;
+  try {
+    parallel::MpiDomain::resume(MPI_COMM_WORLD, dir + "/nothing", params(), walls);
+  } catch (const std::runtime_error& e) {
+    refused = std::string(e.what()).find("nothing.rank") != std::string::npos ||
+              std::string(e.what()).find("another rank") != std::string::npos;
+  }
+  int all = 0;
+  MPI_Allreduce(&refused, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(all, d.ranks());
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (!rank_is_root()) return;
+  ASSERT_EQ(ids, rids);
+  ASSERT_EQ(x.size(), rx.size());
+  EXPECT_EQ(0, std::memcmp(x.data(), rx.data(), x.size() * sizeof(double))) << "the resumed run differs";
+  for (int k = 0; k < d.ranks(); ++k) std::remove(parallel::MpiDomain::rank_file(prefix, k, d.ranks()).c_str());
+  rmdir(dir.c_str());
 }
 
 }  // namespace
