@@ -48,6 +48,9 @@ GhostPlan cut_domain(World& w, const RankLayout& layout, int rank) {
   plan.owned.assign(static_cast<std::size_t>(k), 0);
   for (uint32_t i : layout.owned[rank]) plan.owned[at[i]] = 1;
   w.remove_particles(remove);
+  std::vector<char> ghost(plan.owned.size());
+  for (std::size_t i = 0; i < ghost.size(); ++i) ghost[i] = plan.owned[i] ? 0 : 1;
+  w.set_ghosts(ghost);
   return plan;
 }
 
@@ -165,6 +168,9 @@ Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::
     for (const auto* v : {&d.plan.send[q], &d.plan.recv[q]})
       for (uint32_t i : *v) in_range = in_range && i < n;
   if (!in_range) r.fail("the domain's exchange plan does not match its particles");
+  std::vector<char> ghost(n);
+  for (std::size_t i = 0; i < n; ++i) ghost[i] = d.plan.owned[i] ? 0 : 1;
+  d.world->set_ghosts(ghost);
   return d;
 }
 

@@ -6,6 +6,7 @@
 // Checkpoints: World::save_state/load_state call save_state/load_state of every Interaction in the order they
 // were added; an Interaction that keeps anything from one step to the next (contact histories, a lazily built
 // search structure whose layout depends on the particles present then) writes it there.
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +32,16 @@ struct Interaction {
   // mismatched file fails there) and throws std::runtime_error (BinaryReader::fail) on a mismatch.
   virtual void save_state(core::BinaryWriter& w) const {}
   virtual void load_state(core::BinaryReader& r) {}
+  // Domain decomposition (ghost_domains.hpp): ghost[i] != 0 marks particle i as a ghost, a copy of a particle another
+  // rank owns, whose forces are not used; an interaction may skip it and must leave it out of its totals. Default:
+  // ignored (a stateless interaction without totals computes ghosts like the others).
+  virtual void set_ghosts(const std::vector<char>& ghost) { (void)ghost; }
+  // World::assemble: this interaction's state put together from the same interaction of each part (whose ghosts it
+  // skipped). Default: refused, for an interaction that carries state and does not implement it.
+  virtual void assemble_state(const std::vector<const Interaction*>& parts) {
+    (void)parts;
+    throw std::invalid_argument(label() + ": its state cannot be put together from a domain decomposition's parts");
+  }
   virtual ~Interaction() = default;
 };
 

@@ -103,6 +103,7 @@ void MeshContact::add_forces(Particles& p, double /*t*/, double dt) {
     static thread_local std::vector<char> claimed;
 #pragma omp for schedule(static) reduction(+ : evaluated)
     for (long i = 0; i < n; ++i) {
+      if (static_cast<std::size_t>(i) < ghost_.size() && ghost_[i]) continue;  // another rank's particle
       const Eigen::Vector3d xw(p.x[i], p.y[i], p.z[i]);
       const Eigen::Vector3d c = Rt * (xw - origin);
       if (far_[i] && (c - c0_[i]).squaredNorm() < half_skin2) continue;  // no triangle within r + skin / 2
@@ -291,6 +292,63 @@ void MeshContact::on_reindex(const std::vector<long>& old_to_new) {
   }
   far_.resize(k);
   c0_.resize(k);
+  if (!ghost_.empty()) {  // the ghost mask follows its particles too; particles added since are not ghosts
+    std::vector<char> g;
+    for (std::size_t i = 0; i < old_to_new.size(); ++i)
+      if (old_to_new[i] >= 0) {
+        const auto a = static_cast<std::size_t>(old_to_new[i]);
+        if (g.size() <= a) g.resize(a + 1, 0);
+        g[a] = i < ghost_.size() ? ghost_[i] : 0;
+      }
+    ghost_.swap(g);
+  }
+}
+
+void MeshContact::assemble_state(const std::vector<const Interaction*>& parts) {
+  std::vector<const MeshContact*> mc;
+  for (const Interaction* ia : parts) {
+    const auto* m = dynamic_cast<const MeshContact*>(ia);
+    if (!m || m->mesh_.num_triangles() != mesh_.num_triangles())
+      throw std::invalid_argument(label() + ": a part is not a contact with the same mesh");
+    mc.push_back(m);
+  }
+  if (mc.empty()) return;
+  const MeshContact& first = *mc[0];
+  std::vector<Old> old;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+  double total = 0, worst = 0;
+  std::vector<double> region_normal(first.region_normal_.size(), 0.0);
+  std::vector<Eigen::Vector3d> region_force(first.region_force_.size(), Eigen::Vector3d::Zero());
+  for (const MeshContact* m : mc) {
+    if (m->region_normal_.size() != region_normal.size())
+      throw std::invalid_argument(label() + ": the parts have different region counts");
+    old.insert(old.end(), m->old_.begin(), m->old_.end());
+    force += m->force_;
+    torque += m->torque_origin_;
+    total += m->total_normal_;
+    worst = std::max(worst, m->worst_ratio_);
+    for (std::size_t k = 0; k < region_normal.size(); ++k)
+      region_normal[k] += m->region_normal_[k], region_force[k] += m->region_force_[k];
+  }
+  std::sort(old.begin(), old.end(), [](const Old& a, const Old& b) { return a.id != b.id ? a.id < b.id : a.tri < b.tri; });
+  for (std::size_t k = 1; k < old.size(); ++k)
+    if (old[k].id == old[k - 1].id && old[k].tri == old[k - 1].tri)
+      throw std::invalid_argument(label() + ": particle " + std::to_string(old[k].id) +
+                                  " has a contact history in two parts");
+  mesh_.set_pose(first.mesh_.pose());
+  mesh_.set_twist(first.mesh_.twist());
+  grid_cell_ = first.grid_cell_;
+  skin_ = first.skin_;
+  grid_ = first.grid_.empty() ? TriangleGrid() : TriangleGrid(mesh_, first.grid_.margin(), grid_cell_);
+  far_.clear();
+  c0_.clear();
+  ghost_.clear();
+  contacts_.clear();
+  old_.swap(old);
+  force_ = force, torque_origin_ = torque, total_normal_ = total;
+  worst_ratio_ = worst, worst_index_ = -1;
+  region_normal_.swap(region_normal);
+  region_force_.swap(region_force);
 }
 
 void MeshContact::on_radius_change(long i) {

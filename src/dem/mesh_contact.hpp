@@ -26,6 +26,10 @@
 // per-contact records are concatenated in particle order and reduced serially, so results are
 // bit-identical for any thread count.
 //
+// Domain decomposition: ghosts (set_ghosts) are skipped, so a rank's totals are its owned particles' share; World::assemble
+// puts the parts' histories and totals together (assemble_state). The ghost mask is not in the checkpoint: the
+// decomposition sets it again after a load.
+//
 // Checkpoint (save_state/load_state, called by World's): the tangential histories of the last step (per
 // particle id and triangle, with their normals for the hand-over), the broad-phase grid's margin and cell (the
 // grid is built lazily from the largest radius present at its first use; it is rebuilt the same on load, so the
@@ -94,6 +98,12 @@ class MeshContact : public Interaction {
   // Particle narrow-phase evaluations (grid queries) of the last step; the others were skipped as far.
   long evaluated() const { return evaluated_; }
   void on_reindex(const std::vector<long>& old_to_new) override;
+  // Ghosts of a domain decomposition are skipped: no contact, force or history; out of the totals.
+  void set_ghosts(const std::vector<char>& ghost) override { ghost_ = ghost; }
+  // The parts' histories (each of the particles its World owned) together, their totals summed (the worst overlap's
+  // index is -1: the parts' indices are not this World's), the pose, twist and grid of the first part. Throws
+  // std::invalid_argument when a part is not a MeshContact on the same mesh or a history is in two parts.
+  void assemble_state(const std::vector<const Interaction*>& parts) override;
   void on_radius_change(long i) override;  // i is evaluated at the next step
 
   void add_forces(Particles& p, double t, double dt) override;
@@ -137,6 +147,7 @@ class MeshContact : public Interaction {
   std::optional<RegionMap> regions_;
 
   std::vector<Old> old_;
+  std::vector<char> ghost_;  // per particle index: 1 a ghost (skipped); empty: none
   // far-particle skip (per particle index): body-frame centre when last evaluated, and whether no triangle was
   // within r + skin then (0: evaluate)
   double skin_fraction_ = 0.1, skin_ = 0.0;

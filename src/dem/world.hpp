@@ -179,11 +179,15 @@ class World {
   // (ghost_domains.hpp re-cuts it). Particles in ascending id order with every per-particle array, wall histories
   // and flags; the bonds (broken ones of the last step too) and touching or sliding neighbour pairs (histories,
   // touch flags) whose first particle a part owns, from that part, sorted by their particles; each part's breaks of
-  // bonds whose first particle it owns, by time; walls, time, counters, skin and dt from parts[0]. As after
-  // load_state, the next step rebuilds the neighbour list. Throws std::invalid_argument on a mask of the wrong size,
-  // an id owned twice, a bond or pair whose second particle is not in its part, or an interaction in any World
-  // (their states are not put back together yet).
+  // bonds whose first particle it owns, by time; walls, time, counters, skin and dt from parts[0]; each interaction
+  // from the parts' same interaction (Interaction::assemble_state; all Worlds have the same interactions in the same
+  // order). As after load_state, the next step rebuilds the neighbour list. Throws std::invalid_argument on a mask
+  // of the wrong size, an id owned twice, a bond or pair whose second particle is not in its part, other walls or
+  // interactions, or an interaction that cannot be put together.
   void assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned);
+  // Marks ghosts of a domain decomposition for the interactions (Interaction::set_ghosts): ghost[i] != 0 for a copy
+  // of a particle another rank owns. Throws std::invalid_argument on a mask of the wrong size.
+  void set_ghosts(const std::vector<char>& ghost);
 
  private:
   struct BondOutSlot {  // force on j (i gets -f), torques on i and j

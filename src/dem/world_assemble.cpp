@@ -17,8 +17,6 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   if (parts.empty() || parts.size() != owned.size())
     throw std::invalid_argument("World::assemble: " + std::to_string(parts.size()) + " parts and " +
                                 std::to_string(owned.size()) + " ownership masks (one per part, at least one)");
-  if (!interactions_.empty())
-    throw std::invalid_argument("World::assemble: this World has interactions; their states are not assembled yet");
   const std::size_t nw = walls_.size();
   // (id, part, index) of every owned particle, in id order
   std::vector<std::tuple<uint64_t, std::size_t, uint32_t>> order;
@@ -28,9 +26,12 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
       throw std::invalid_argument("World::assemble: part " + std::to_string(k) + " has " +
                                   std::to_string(w.p_.size()) + " particles, its mask " +
                                   std::to_string(owned[k].size()));
-    if (!w.interactions_.empty() || w.walls_.size() != nw)
+    bool same = w.walls_.size() == nw && w.interactions_.size() == interactions_.size();
+    for (std::size_t a = 0; same && a < interactions_.size(); ++a)
+      same = w.interactions_[a]->label() == interactions_[a]->label();
+    if (!same)
       throw std::invalid_argument("World::assemble: part " + std::to_string(k) +
-                                  " has interactions or another wall count than this World");
+                                  " has other walls or interactions than this World");
     for (std::size_t i = 0; i < w.p_.size(); ++i)
       if (owned[k][i]) order.emplace_back(w.p_.id[i], k, static_cast<uint32_t>(i));
   }
@@ -104,6 +105,12 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   });
   std::stable_sort(breaks.begin(), breaks.end(), [](const BondBreak& a, const BondBreak& b) { return a.t < b.t; });
 
+  for (std::size_t a = 0; a < interactions_.size(); ++a) {  // after every check on the particles, before the commit
+    std::vector<const Interaction*> ia;
+    for (const World* w : parts) ia.push_back(w->interactions_[a].get());
+    interactions_[a]->assemble_state(ia);
+  }
+
   // commit (as load_state does)
   const World& p0 = *parts[0];
   p_ = std::move(np);
@@ -133,6 +140,17 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   dt_checked_ = p0.dt_checked_;
   bonds_dirty_ = true;
   need_rebuild_ = true;
+}
+
+}  // namespace dem
+
+namespace dem {
+
+void World::set_ghosts(const std::vector<char>& ghost) {
+  if (ghost.size() != p_.size())
+    throw std::invalid_argument("World::set_ghosts: mask of " + std::to_string(ghost.size()) + " for " +
+                                std::to_string(p_.size()) + " particles");
+  for (auto& ia : interactions_) ia->set_ghosts(ghost);
 }
 
 }  // namespace dem

@@ -50,6 +50,17 @@ std::vector<T> from_bytes(const std::vector<char>& b) {
 }
 }  // namespace
 
+dem::MeshWrench sum_over_ranks(MPI_Comm comm, const dem::MeshWrench& mine) {
+  double in[6] = {mine.force.x(), mine.force.y(), mine.force.z(), mine.torque.x(), mine.torque.y(), mine.torque.z()};
+  double out[6];
+  MPI_Allreduce(in, out, 6, MPI_DOUBLE, MPI_SUM, comm);
+  dem::MeshWrench w;
+  w.force = Eigen::Vector3d(out[0], out[1], out[2]);
+  w.torque = Eigen::Vector3d(out[3], out[4], out[5]);
+  w.point = mine.point;
+  return w;
+}
+
 std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root) {
   unsigned long long n = on_root.size();
   MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);

@@ -18,8 +18,13 @@
 #include <vector>
 
 #include "dem/ghost_domains.hpp"
+#include "dem/mesh_contact.hpp"
 
 namespace parallel {
+
+// Collective: the sum over the ranks of each rank's wrench on a liner (its owned particles' share, the ghosts being
+// skipped: dem/mesh_contact.hpp), about the same point on every rank: the whole charge's wrench, on every rank.
+dem::MeshWrench sum_over_ranks(MPI_Comm comm, const dem::MeshWrench& mine);
 
 // Rank 0's bytes on every rank of comm.
 std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root);

@@ -5,6 +5,8 @@
 // cross the sector boundaries of the steps that follow; and the whole charge's own steps from that state.
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -14,6 +16,7 @@
 
 #include "core/binary_io.hpp"
 #include "dem/ghost_domains.hpp"
+#include "dem/mesh_contact.hpp"
 #include "dem/world.hpp"
 
 namespace pressed_charge {
@@ -37,10 +40,44 @@ inline void walls(dem::World& w) {
   w.set_wall_velocity(w.add_plane(hi, n, 1), v);
 }
 
+using Setup = std::function<void(dem::World&)>;
+
+// The same box with a floor of 288 triangles (a 12 x 12 grid of squares at z = 0) instead of the planar floor: the
+// liner of the tests with a mesh. Each MeshContact made is appended to *made (when given), so a test can read the
+// wrench of every World a decomposition makes.
+inline Setup on_plate(std::vector<std::shared_ptr<dem::MeshContact>>* made) {
+  return [made](dem::World& w) {
+    const double lo[3] = {-kHalf, -kHalf, 0}, hi[3] = {kHalf, kHalf, kLid};
+    const double nx[3] = {1, 0, 0}, mx[3] = {-1, 0, 0}, ny[3] = {0, 1, 0}, my[3] = {0, -1, 0};
+    w.add_plane(lo, nx, 1);
+    w.add_plane(hi, mx, 1);
+    w.add_plane(lo, ny, 1);
+    w.add_plane(hi, my, 1);
+    const double n[3] = {0, 0, -1}, v[3] = {0, 0, kLidSpeed};
+    w.set_wall_velocity(w.add_plane(hi, n, 1), v);
+    const int m = 12;
+    const double h = 2 * kHalf / m;
+    std::vector<Eigen::Vector3d> vert;
+    std::vector<dem::Triangle> tri;
+    for (int j = 0; j <= m; ++j)
+      for (int i = 0; i <= m; ++i) vert.emplace_back(-kHalf + i * h, -kHalf + j * h, 0.0);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) {
+        const int a = j * (m + 1) + i, b = a + 1, c = a + m + 2, d = a + m + 1;
+        tri.push_back({a, b, c});
+        tri.push_back({a, c, d});
+      }
+    auto mc = std::make_shared<dem::MeshContact>(dem::TriMesh(vert, tri, "plate"), w.materials(), 1);
+    mc->set_threads(1);
+    w.add_interaction(mc);
+    if (made) made->push_back(mc);
+  };
+}
+
 // The whole charge after 3 ms, saved: returns the checkpoint.
-inline std::string whole_charge_state() {
+inline std::string whole_charge_state(const Setup& setup = walls) {
   dem::World w(params());
-  walls(w);
+  setup(w);
   std::mt19937_64 rng(25);
   std::uniform_real_distribution<double> U(0, 1);
   for (int k = 0; k < 5; ++k)
@@ -78,12 +115,18 @@ inline const std::string& state() {
   return s;
 }
 
-// The whole charge loaded from the checkpoint and stepped n times: owned state by id (as LocalDomains gives it).
+inline const std::string& plate_state() {
+  static const std::string s = whole_charge_state(on_plate(nullptr));
+  return s;
+}
+
+// The whole charge loaded from its checkpoint and stepped n times: its state by id (as LocalDomains gives it).
 struct Reference {
   std::vector<uint64_t> ids;
   std::vector<double> x;
   std::vector<std::pair<uint64_t, uint64_t>> breaks;
   std::vector<std::pair<uint64_t, uint64_t>> bonds;  // intact, by particle ids, sorted
+  dem::MeshWrench plate;  // the last step's wrench on the plate about the origin (with on_plate)
 };
 
 // The intact bonds of a World whose first particle is owned (all: owned empty), by particle ids.
@@ -93,10 +136,12 @@ inline void add_intact_bonds(const dem::World& w, const std::vector<char>& owned
     if (b.alive && (owned.empty() || owned[b.i])) out.push_back({w.particles().id[b.i], w.particles().id[b.j]});
 }
 
-inline Reference reference(long n) {
+// plate: the charge on the plate (plate_state, on_plate), else in the box (state, walls).
+inline Reference reference(long n, bool plate = false) {
+  std::vector<std::shared_ptr<dem::MeshContact>> made;
   dem::World w(params());
-  walls(w);
-  std::istringstream is(state());
+  if (plate) on_plate(&made)(w); else walls(w);
+  std::istringstream is(plate ? plate_state() : state());
   core::BinaryReader r(is, "test");
   w.load_state(r);
   const std::size_t before = w.breaks().size();
@@ -110,6 +155,7 @@ inline Reference reference(long n) {
   std::sort(ref.breaks.begin(), ref.breaks.end());
   add_intact_bonds(w, {}, ref.bonds);
   std::sort(ref.bonds.begin(), ref.bonds.end());
+  if (!made.empty()) ref.plate = made.back()->wrench_about(Eigen::Vector3d::Zero());
   return ref;
 }
 

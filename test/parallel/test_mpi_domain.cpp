@@ -3,19 +3,21 @@
 // same cut in one process (LocalDomains) bit for bit, and the whole charge in one World bit for bit on one rank and
 // to round-off on more (the bound and its reason: test/dem/test_ghost_domains.cpp); every particle is owned once,
 // the breaks are the whole World's; re-cuts through rank 0 give the one process's re-cuts bit for bit; a run resumed
-// from its checkpoint per rank continues bit for bit.
+// from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <unistd.h>
 #include <string>
 #include <vector>
 
 #include "../common/pressed_charge.hpp"
 #include "dem/ghost_domains.hpp"
+#include "dem/mesh_contact.hpp"
 #include "parallel/mpi_domain.hpp"
 
 namespace {
@@ -126,6 +128,34 @@ TEST(MpiDomain, ResumesFromItsCheckpointBitForBit) {
   EXPECT_EQ(0, std::memcmp(x.data(), rx.data(), x.size() * sizeof(double))) << "the resumed run differs";
   for (int k = 0; k < d.ranks(); ++k) std::remove(parallel::MpiDomain::rank_file(prefix, k, d.ranks()).c_str());
   rmdir(dir.c_str());
+}
+
+TEST(MpiDomain, ALinerMeshGetsTheWholeChargesWrenchSummedOverTheRanks) {
+  // the charge on the plate of triangles, re-cut 8 times in 600 steps: the same steps as in one process, and the
+  // ranks' wrenches summed (MPI_Allreduce, in its own order) to the whole World's within round-off
+  std::vector<std::shared_ptr<dem::MeshContact>> made;
+  const double reach = 2e-3 + 0.2e-3;
+  parallel::MpiDomain d(MPI_COMM_WORLD, plate_state(), params(), on_plate(&made), reach);
+  d.step(600);
+  const dem::MeshWrench sum = parallel::sum_over_ranks(MPI_COMM_WORLD, made.back()->wrench_about(Eigen::Vector3d::Zero()));
+  std::vector<uint64_t> ids;
+  std::vector<double> x;
+  d.gather_owned(ids, x);
+  if (!rank_is_root()) return;
+  std::vector<std::shared_ptr<dem::MeshContact>> lmade;
+  dem::LocalDomains local(plate_state(), params(), on_plate(&lmade), d.ranks(), reach);
+  local.step(600);
+  std::vector<uint64_t> lids;
+  std::vector<double> lx;
+  local.owned_state(lids, lx);
+  ASSERT_EQ(ids, lids);
+  ASSERT_EQ(x.size(), lx.size());
+  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
+  const Reference ref = reference(600, true);
+  EXPECT_LT((sum.force - ref.plate.force).norm(), 1e-9 * ref.plate.force.norm());
+  EXPECT_LT((sum.torque - ref.plate.torque).norm(), 1e-9 * ref.plate.force.norm() * kHalf);
+  std::printf("%d ranks, plate: %d re-cuts, force %.6g N (whole World %.6g N)\n", d.ranks(), d.recuts(), sum.force.z(),
+              ref.plate.force.z());
 }
 
 }  // namespace
