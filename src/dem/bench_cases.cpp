@@ -69,12 +69,21 @@ FccBlock granular_pressed_block() {
   return fcc_block(kPressedLattice, lo, hi);
 }
 
-void build_granular_pressed(World& w) {
+void granular_pressed_walls(World& w) {
   const double lo[3] = {kPressedWallLo, kPressedWallLo, kPressedWallLo};
   const double hi[3] = {kPressedWallHiXY, kPressedWallHiXY, kPressedWallHiZ};
   w.add_box(lo, hi, 0, true);  // the peer's xw1, xw2, yw1, yw2, zw1, zw2
+}
+
+void build_granular_pressed(World& w) {
+  granular_pressed_walls(w);
   w.particles().reserve(50000);
   add_fcc_spheres(w, granular_pressed_block(), 0.0015);  // 'diameter 0.003'
+}
+
+void bonded_hex_walls(World& w) {
+  const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1};
+  w.add_plane(o, up, 0);
 }
 
 void build_bonded_hex(World& w) {
@@ -95,8 +104,7 @@ void build_bonded_hex(World& w) {
         for (int d = 0; d < 3; ++d) in = in && p[d] - r >= mn[d] && p[d] + r <= mx[d];
         if (in) w.add_particle(p, r, 0);
       }
-  const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1};
-  w.add_plane(o, up, 0);
+  bonded_hex_walls(w);
   BondParams bp;
   const double A = M_PI * r * r, E = 1.3716e9;
   bp.kn = E * r / A;     // Yade: k_n = 2 E R1 R2 / (R1 + R2) = E R

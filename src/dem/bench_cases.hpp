@@ -35,9 +35,11 @@ constexpr double kPressedWallHiXY = 0.058594813;    // m, upper x and y planes
 constexpr double kPressedWallHiZ = 0.291239977;     // m, upper z plane
 FccBlock granular_pressed_block();
 void build_granular_pressed(World& w);
+void granular_pressed_walls(World& w);  // its six planes alone (a checkpoint's loader adds them)
 
 // bonded_hex (yade_bonded_hex.py): 1.5 mm spheres in Yade's regularHexa packing of a 50 mm cube on a floor, every
 // pair within 1.2 (r_i + r_j) bonded, strengths 25 / 9 MPa, bond stiffness as Yade's CohFrictPhys.
 void build_bonded_hex(World& w);
+void bonded_hex_walls(World& w);  // its floor alone
 
 }  // namespace dem::bench

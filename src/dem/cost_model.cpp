@@ -20,6 +20,7 @@ CostModelRow cost_model(const CostModelInputs& in, int ranks) {
   r.serial_s = in.serial_s_per_step;
   if (ranks > 1) {
     r.ghosts_per_boundary = in.particles * in.ghost_width_m / (2 * M_PI * in.mean_radius_m) * in.ghost_factor;
+    r.compute_s += 2 * r.ghosts_per_boundary * in.core_s_per_particle_step;  // a rank steps its ghosts too
     r.comm_s = 4 * in.latency_s + 2 * r.ghosts_per_boundary * (in.bytes_forward + in.bytes_reverse) / in.bandwidth_B_s;
     r.comm_s += 2 * std::ceil(std::log2(P)) * in.latency_s / std::max(1.0, in.steps_per_coupling);
     r.sectors_too_thin = 2 * M_PI * in.mean_radius_m / P < 2 * in.ghost_width_m;

@@ -1,11 +1,11 @@
 #pragma once
-// A cost model for a DEM run split over P ranks in azimuthal sectors of an annular charge (the crusher chamber),
-// with no MPI in the engine yet: the per-particle cost is measured (dem_bench --case crusher), the communication
-// cost is modelled from a stated network. Formula and inputs: src/dem/README.md, "Cost model".
+// A cost model for a DEM run split over P ranks in azimuthal sectors of an annular charge (the crusher chamber), as
+// the MPI engine does it (parallel/mpi_domain.hpp): the per-particle cost is measured (dem_bench --case crusher), the
+// communication cost is modelled from a stated network. Formula and inputs: src/dem/README.md, "Cost model".
 //
 // Per DEM step on P ranks (one core each):
-//   t_step(P) = N c / P + t_serial + t_comm(P)
-//   t_comm(P) = 4 L + 2 N_g (b_fwd + b_rev) / B   (P > 1; two neighbour sectors, positions out and forces back)
+//   t_step(P) = (N / P + 2 N_g) c + t_serial + t_comm(P)   (P > 1: a rank steps its ghosts of both boundaries too)
+//   t_comm(P) = 4 L + 2 N_g (b_fwd + b_rev) / B   (P > 1; x, v, w to and from the two neighbour sectors)
 //   N_g       = N w / (2 pi r_m) x ghost_factor  ghost particles per sector boundary (charge uniform in azimuth;
 //                                                 ghost_factor: measured on the real charge over that)
 //   + one allreduce of the liner wrenches per coupling step: 2 ceil(log2 P) L / steps_per_coupling
@@ -24,7 +24,8 @@ struct CostModelInputs {
   double ghost_width_m = 0;         // w: interaction range across a boundary (largest diameter + skin)
   double mean_radius_m = 0;         // r_m: the charge's mean radius about the axis
   double bytes_forward = 72;        // per ghost and step: x, v, w (9 doubles)
-  double bytes_reverse = 48;        // per ghost and step: f, t sent back (6 doubles)
+  double bytes_reverse = 0;         // per ghost and step sent back: none, a pair across a boundary is computed on
+                                    // both ranks (a scheme with forces sent back, f and t: 48, and no ghost stepping)
   double bandwidth_B_s = 1.25e9;    // B
   double latency_s = 20e-6;         // L, per message
   double steps_per_coupling = 1;    // DEM steps per coupling step (the wrench allreduce)

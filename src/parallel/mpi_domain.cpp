@@ -3,6 +3,7 @@
 #include "core/atomic_file.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -149,12 +150,25 @@ void MpiDomain::exchange() {
 }
 
 void MpiDomain::step(long n) {
+  using clk = std::chrono::steady_clock;
   for (long s = 0; s < n; ++s) {
-    if (max_displacement() > d_.margin) recut();
+    if (max_displacement() > d_.margin) {
+      const auto t0 = clk::now();
+      recut();
+      recut_s_ += std::chrono::duration<double>(clk::now() - t0).count();
+    }
     d_.world->step_begin();
+    const auto t0 = clk::now();
     exchange();
+    exchange_s_ += std::chrono::duration<double>(clk::now() - t0).count();
     d_.world->step_end();
   }
+}
+
+std::size_t MpiDomain::ghosts() const {
+  std::size_t g = 0;
+  for (const auto& v : d_.plan.recv) g += v.size();
+  return g;
 }
 
 // Through rank 0: every rank's World and ownership mask to it, the whole charge assembled and broadcast, each rank

@@ -50,6 +50,11 @@ class MpiDomain {
   // Collective: n steps with the ghost exchange, the charge cut anew when the margin is spent.
   void step(long n = 1);
   int recuts() const { return recuts_; }
+  // Wall seconds this rank spent since construction in the ghost exchange (packing, MPI and waiting for the peers)
+  // and in re-cuts, for the benchmark.
+  double exchange_seconds() const { return exchange_s_; }
+  double recut_seconds() const { return recut_s_; }
+  std::size_t ghosts() const;  // this rank's ghost count
   // Collective: the largest displacement of any rank's owned particle since the cut (m).
   double max_displacement() const;
   // Collective: on rank 0 every owned particle's x, v, w by id (kGhostDoubles each, ids ascending); empty elsewhere.
@@ -67,6 +72,7 @@ class MpiDomain {
   std::function<void(dem::World&)> setup_;
   double reach_ = 0;
   int recuts_ = 0;
+  double exchange_s_ = 0, recut_s_ = 0;
   dem::Domain d_;
   std::vector<std::vector<double>> out_, in_;  // per peer: send and receive buffers
 };

@@ -1,0 +1,112 @@
+// MPI benchmark of the DEM engine across processes (issue 25, parallel/mpi_domain.hpp): a peer case of dem_bench
+// (granular_pressed: 49,936 pressed spheres, 283,556 contacts; bonded_hex: 1.5 mm spheres all bonded), built and
+// warmed up on rank 0 in one World, saved, cut into equal-count azimuthal sectors about the z axis (both blocks lie in
+// x, y > 0: the axis runs along their corner, so the wedges split the block along vertical planes through it), and
+// timed over --steps steps with the ghost exchange. Run it under mpirun; with one rank it times the same World
+// without an exchange, so `-np 1 --threads 2` and `-np 2 --threads 1` compare processes with threads on two cores.
+// Usage: mpirun -np P dem_mpi_bench [--case granular_pressed|bonded_hex] [--steps S] [--warmup W] [--threads T]
+// Prints one line per rank on stderr (owned, ghosts, wall, exchange and re-cut seconds) and rank 0's case line on
+// stdout: particle-steps per second of the whole charge, the exchange's share of the slowest rank's wall time.
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/binary_io.hpp"
+#include "core/cli_args.hpp"
+#include "dem/bench_cases.hpp"
+#include "dem/world.hpp"
+#include "parallel/mpi_domain.hpp"
+
+namespace {
+
+struct Case {
+  double dt, skin, reach;
+  long warmup;
+  void (*build)(dem::World&);
+  void (*walls)(dem::World&);
+};
+
+Case case_named(const std::string& name) {
+  // reach: the largest contact (2 r = 3 mm) or bond (1.2 x 2 r) distance plus room to move before a re-cut
+  if (name == "granular_pressed")
+    return {1e-6, 0.3e-3, 3.6e-3, 1000, dem::bench::build_granular_pressed, dem::bench::granular_pressed_walls};
+  if (name == "bonded_hex")
+    return {1e-7, -1, 4.2e-3, 200, dem::bench::build_bonded_hex, dem::bench::bonded_hex_walls};
+  throw std::invalid_argument("--case " + name + ": accepted granular_pressed, bonded_hex");
+}
+
+int run(int argc, char** argv) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  std::string name = "granular_pressed";
+  long steps = 2000, warmup = -1;
+  int threads = 1;
+  for (core::CliArgs a(argc, argv); a.next();) {
+    const std::string f = a.flag();
+    if (f == "--case") name = a.value();
+    else if (f == "--steps") steps = a.integer(1, 100000000);
+    else if (f == "--warmup") warmup = a.integer(0, 100000000);
+    else if (f == "--threads") threads = static_cast<int>(a.integer(1, 1024));
+    else throw std::invalid_argument("unknown option " + f + " (accepted: --case, --steps, --warmup, --threads)");
+  }
+  const Case c = case_named(name);
+  if (warmup < 0) warmup = c.warmup;
+  dem::WorldParams wp = dem::bench::peer_params(c.dt, threads);
+  wp.skin = c.skin;
+  std::string ckpt;
+  if (rank == 0) {
+    dem::World w(wp);
+    c.build(w);
+    w.step(warmup);
+    std::ostringstream os;
+    core::BinaryWriter bw(os);
+    w.save_state(bw);
+    ckpt = os.str();
+  }
+  ckpt = parallel::broadcast_bytes(MPI_COMM_WORLD, ckpt);
+  parallel::MpiDomain d(MPI_COMM_WORLD, ckpt, wp, c.walls, c.reach);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto t0 = std::chrono::steady_clock::now();
+  d.step(steps);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::size_t owned = 0;
+  for (char o : d.plan().owned) owned += o ? 1 : 0;
+  std::fprintf(stderr, "rank %d of %d: owned %zu ghosts %zu wall_s %.3f exchange_s %.3f recuts %d recut_s %.3f\n", rank,
+               size, owned, d.ghosts(), wall, d.exchange_seconds(), d.recuts(), d.recut_seconds());
+  double slowest = 0, exch = 0;
+  MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  const double mine = d.exchange_seconds();
+  MPI_Reduce(&mine, &exch, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  unsigned long long n_own = owned, n_all = 0, g = d.ghosts(), g_max = 0;
+  MPI_Reduce(&n_own, &n_all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  MPI_Reduce(&g, &g_max, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, MPI_COMM_WORLD);
+  if (rank == 0) {
+    std::printf("case %s ranks %d threads %d particles %llu steps %ld wall_s %.3f particle_steps_per_s %.4g "
+                "exchange_share %.3f ghosts_max %llu\n",
+                name.c_str(), size, threads, n_all, steps, slowest, static_cast<double>(n_all) * steps / slowest,
+                exch / slowest, g_max);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rc = 0;
+  try {
+    rc = run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dem_mpi_bench: %s\n", e.what());
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
+  MPI_Finalize();
+  return rc;
+}
