@@ -4,7 +4,8 @@
 // communication cost is modelled from a stated network. Formula and inputs: src/dem/README.md, "Cost model".
 //
 // Per DEM step on P ranks (one core each):
-//   t_step(P) = (N / P + 2 N_g) c + t_serial + t_comm(P)   (P > 1: a rank steps its ghosts of both boundaries too)
+//   t_step(P) = (N / P + 2 N_g g_w) c + t_serial + t_comm(P)   (P > 1: a rank computes the pairs and bonds that cross
+//               its two boundaries too, g_w of a particle's work per ghost, measured: dem_mpi_bench)
 //   t_comm(P) = 4 L + 2 N_g (b_fwd + b_rev) / B   (P > 1; x, v, w to and from the two neighbour sectors)
 //   N_g       = N w / (2 pi r_m) x ghost_factor  ghost particles per sector boundary (charge uniform in azimuth;
 //                                                 ghost_factor: measured on the real charge over that)
@@ -32,6 +33,10 @@ struct CostModelInputs {
   // Measured ghosts over the uniform formula's N_g (dem_bench: the most loaded rank of the charge's own balanced
   // wedges, sector_decomposition.hpp); 1: the formula as it is.
   double ghost_factor = 1;
+  // g_w: a ghost's work over an owned particle's (the World leaves out pairs and bonds of two ghosts, so a ghost
+  // costs its pairs and bonds across the boundary, computed on both ranks). Measured with dem_mpi_bench on 2 ranks:
+  // granular_pressed 0.23 (295,157 pairs against 283,556 in one World, 4,412 ghosts a rank), bonded_hex 0.19 (bonds).
+  double ghost_work = 0.25;
 };
 
 struct CostModelRow {

@@ -76,6 +76,7 @@ std::size_t World::add_particle(const double x[3], double radius, int material, 
   if (!v) v = z3;
   if (!w) w = z3;
   const std::size_t i = p_.add(x[0], x[1], x[2], radius, density, material, v[0], v[1], v[2], w[0], w[1], w[2]);
+  if (!ghost_.empty()) ghost_.push_back(0);  // a new particle is this rank's own
   need_rebuild_ = true;
   dt_checked_ = false;
   return i;
@@ -126,6 +127,12 @@ void World::remove_particles(const std::vector<char>& remove) {
     if (!keep[i]) continue;
     for (std::size_t w = 0; w < nw; ++w) whist_[k * nw + w] = whist_[i * nw + w];
     ++k;
+  }
+  if (!ghost_.empty()) {
+    std::size_t g = 0;
+    for (std::size_t i = 0; i < nold; ++i)
+      if (keep[i]) ghost_[g++] = ghost_[i];
+    ghost_.resize(g);
   }
   const std::vector<long> map = p_.compact(keep);
   whist_.resize(p_.size() * nw);
@@ -418,6 +425,7 @@ void World::rebuild() {
         touch2_.resize(cap);
       }
     }
+    const char* gh = ghost_.size() == n ? ghost_.data() : nullptr;
     chunked(nt_, static_cast<long>(n), [&](long ib, long ie, int) {
     for (long i = ib; i < ie; ++i) {
       const double xi = p_.x[i], yi = p_.y[i], zi = p_.z[i], ri = p_.r[i];
@@ -438,7 +446,7 @@ void World::rebuild() {
             const int c = g.cell_index(ax, ay, az);
             for (uint32_t s = g.start[c]; s < g.start[c + 1]; ++s) {
               const uint32_t j = g.items[s];
-              if (j <= i) continue;
+              if (j <= i || (gh && gh[i] && gh[j])) continue;  // two ghosts: no rank needs their contact here
               const double ddx = p_.x[j] - xi, ddy = p_.y[j] - yi, ddz = p_.z[j] - zi;
               const double cut = ri + p_.r[j] + skin;
               if (ddx * ddx + ddy * ddy + ddz * ddz >= cut * cut) continue;

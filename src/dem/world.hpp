@@ -185,8 +185,11 @@ class World {
   // of the wrong size, an id owned twice, a bond or pair whose second particle is not in its part, other walls or
   // interactions, or an interaction that cannot be put together.
   void assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned);
-  // Marks ghosts of a domain decomposition for the interactions (Interaction::set_ghosts): ghost[i] != 0 for a copy
-  // of a particle another rank owns. Throws std::invalid_argument on a mask of the wrong size.
+  // Marks the ghosts of a domain decomposition (ghost_domains.hpp): ghost[i] != 0 for a copy of a particle another
+  // rank owns, whose forces are not used. What concerns ghosts alone is left out: pairs of two ghosts are not listed,
+  // bonds between two ghosts are dropped (their owners keep them), interactions skip ghosts (Interaction::set_ghosts).
+  // Particles added later are not ghosts; removals keep the mask; load_state and assemble clear it. Throws
+  // std::invalid_argument on a mask of the wrong size.
   void set_ghosts(const std::vector<char>& ghost);
 
  private:
@@ -221,6 +224,7 @@ class World {
   long nstep_ = 0, nrebuild_ = 0;
   bool need_rebuild_ = true, bonds_dirty_ = true, dt_checked_ = false;
   bool opened_ = false;  // between step_begin() and step_end()
+  std::vector<char> ghost_;  // set_ghosts: per particle, 1 a ghost; empty: none
   std::size_t n_known_ = 0;  // particle count the per-particle arrays are sized for
 
   // neighbour list: pairs (i < j) grouped by owner i: i's pairs are [istart[i], istart[i+1])

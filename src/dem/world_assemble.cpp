@@ -140,6 +140,7 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   dt_checked_ = p0.dt_checked_;
   bonds_dirty_ = true;
   need_rebuild_ = true;
+  ghost_.clear();
 }
 
 }  // namespace dem
@@ -150,6 +151,15 @@ void World::set_ghosts(const std::vector<char>& ghost) {
   if (ghost.size() != p_.size())
     throw std::invalid_argument("World::set_ghosts: mask of " + std::to_string(ghost.size()) + " for " +
                                 std::to_string(p_.size()) + " particles");
+  ghost_ = ghost;
+  std::size_t nb = 0;  // bonds between two ghosts: their owners compute them
+  for (const Bond& b : bonds_)
+    if (!(ghost[b.i] && ghost[b.j])) bonds_[nb++] = b;
+  if (nb != bonds_.size()) {
+    bonds_.resize(nb);
+    bonds_dirty_ = true;
+  }
+  need_rebuild_ = true;  // the neighbour list leaves out pairs of two ghosts
   for (auto& ia : interactions_) ia->set_ghosts(ghost);
 }
 

@@ -276,6 +276,7 @@ void World::load_state(core::BinaryReader& r) {
   skin_ = skin;
   prm_.dt = dt;
   dt_checked_ = dt_checked;
+  ghost_.clear();        // a decomposition marks its ghosts again (ghost_domains.hpp)
   bonds_dirty_ = true;   // bond CSR (and compaction of the last step's broken bonds) at the next step
   need_rebuild_ = true;  // neighbour list from the saved pairs, as the writing run does after save_state
 }

@@ -172,9 +172,10 @@ std::array<double, K> minus(const std::array<double, K>& a, const std::array<dou
 
 void print_cost_model(const char* title, dem::CostModelInputs in) {
   std::printf("cost_model %s: particles %.0f dt_s %.3g core_s_per_particle_step %.3g serial_s_per_step %.3g "
-              "ghost_width_mm %.1f mean_radius_mm %.0f ghost_factor %.2f bytes_per_ghost %.0f\n",
+              "ghost_width_mm %.1f mean_radius_mm %.0f ghost_factor %.2f ghost_work %.2f bytes_per_ghost %.0f\n",
               title, in.particles, in.dt_s, in.core_s_per_particle_step, in.serial_s_per_step,
-              1e3 * in.ghost_width_m, 1e3 * in.mean_radius_m, in.ghost_factor, in.bytes_forward + in.bytes_reverse);
+              1e3 * in.ghost_width_m, 1e3 * in.mean_radius_m, in.ghost_factor, in.ghost_work,
+              in.bytes_forward + in.bytes_reverse);
   std::printf("cost_model %s: %5s %10s %9s %9s %9s | %21s | %21s\n", title, "cores", "ghosts/bd", "comp_us",
               "serial_us", "comm_us", "10GbE: h/sim-s (eff)", "IB 100G: h/sim-s (eff)");
   for (int P = 1; P <= 256; P *= 2) {

@@ -77,8 +77,11 @@ int run(int argc, char** argv) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::size_t owned = 0;
   for (char o : d.plan().owned) owned += o ? 1 : 0;
-  std::fprintf(stderr, "rank %d of %d: owned %zu ghosts %zu wall_s %.3f exchange_s %.3f recuts %d recut_s %.3f\n", rank,
-               size, owned, d.ghosts(), wall, d.exchange_seconds(), d.recuts(), d.recut_seconds());
+  std::fprintf(stderr,
+               "rank %d of %d: owned %zu ghosts %zu neighbour_pairs %zu bonds %zu wall_s %.3f exchange_s %.3f recuts %d "
+               "recut_s %.3f\n",
+               rank, size, owned, d.ghosts(), d.world().n_pairs(), d.world().n_bonds_intact(), wall, d.exchange_seconds(),
+               d.recuts(), d.recut_seconds());
   double slowest = 0, exch = 0;
   MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const double mine = d.exchange_seconds();

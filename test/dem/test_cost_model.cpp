@@ -32,11 +32,11 @@ TEST(CostModel, OneRankHasNoCommunication) {
 TEST(CostModel, EightRanksByHand) {
   const auto r = dem::cost_model(inputs(), 8);
   EXPECT_NEAR(r.ghosts_per_boundary, 2000, 1e-9);
-  EXPECT_NEAR(r.compute_s, (1e5 / 8 + 2 * 2000) * 2e-7, 1e-15);  // its own 12,500 and the 4,000 ghosts
+  EXPECT_NEAR(r.compute_s, (1e5 / 8 + 2 * 2000 * 0.25) * 2e-7, 1e-15);  // its own 12,500; 4,000 ghosts at 0.25
   // 4 messages + 2 boundaries x 2000 ghosts x 72 B at 1 GB/s + allreduce 2 x 3 x L over 1000 steps
   const double comm = 4e-5 + 2 * 2000 * 72 / 1e9 + 6e-5 / 1000;
   EXPECT_NEAR(r.comm_s, comm, 1e-15);
-  const double t = 0.0033 + 1e-4 + comm;
+  const double t = 0.0027 + 1e-4 + comm;
   EXPECT_NEAR(r.wall_h_per_sim_s, t / 1e-6 / 3600, 1e-9);
   EXPECT_NEAR(r.efficiency, 0.0201 / (8 * t), 1e-12);
   EXPECT_FALSE(r.sectors_too_thin);  // 1 m / 8 = 125 mm > 40 mm
@@ -49,7 +49,7 @@ TEST(CostModel, AMeasuredGhostFactorScalesTheGhostsAndTheirTraffic) {
   const auto r = dem::cost_model(in, 8);
   EXPECT_NEAR(r.ghosts_per_boundary, 3000, 1e-9);
   EXPECT_NEAR(r.comm_s, 4e-5 + 2 * 3000 * 72 / 1e9 + 6e-5 / 1000, 1e-15);
-  EXPECT_NEAR(r.compute_s, (1e5 / 8 + 2 * 3000) * 2e-7, 1e-15);
+  EXPECT_NEAR(r.compute_s, (1e5 / 8 + 2 * 3000 * 0.25) * 2e-7, 1e-15);
   in.ghost_factor = 0;
   EXPECT_THROW(dem::cost_model(in, 8), std::invalid_argument);
 }
@@ -59,6 +59,9 @@ TEST(CostModel, RefusesBadInput) {
   in.particles = 0;
   EXPECT_THROW(dem::cost_model(in, 2), std::invalid_argument);
   EXPECT_THROW(dem::cost_model(inputs(), 0), std::invalid_argument);
+  in = inputs();
+  in.ghost_work = -0.1;
+  EXPECT_THROW(dem::cost_model(in, 2), std::invalid_argument);
 }
 
 }  // namespace
