@@ -175,10 +175,12 @@ Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::
 }
 
 std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
-                            const WorldParams& params, const std::function<void(World&)>& setup) {
+                            const WorldParams& params, const std::function<void(World&)>& setup,
+                            const std::function<void(World&)>& edit) {
   World whole(params);
   if (setup) setup(whole);
   whole.assemble(parts, owned);
+  if (edit) edit(whole);
   std::ostringstream os;
   core::BinaryWriter w(os);
   whole.save_state(w);
@@ -201,11 +203,13 @@ LocalDomains::LocalDomains(const std::string& checkpoint, const WorldParams& par
   for (int r = 0; r < ranks; ++r) domains_.push_back(cut_charge(checkpoint, params, setup, ranks, r, reach));
 }
 
-void LocalDomains::recut() {
+void LocalDomains::edit(const std::function<void(World&)>& edit) { recut(edit); }
+
+void LocalDomains::recut(const std::function<void(World&)>& edit) {
   std::vector<const World*> parts;
   std::vector<std::vector<char>> owned;
   for (const Domain& d : domains_) parts.push_back(d.world.get()), owned.push_back(d.plan.owned);
-  const std::string whole = assemble_charge(parts, owned, params_, setup_);
+  const std::string whole = assemble_charge(parts, owned, params_, setup_, edit);
   const int P = ranks();
   domains_.clear();
   for (int r = 0; r < P; ++r) domains_.push_back(cut_charge(whole, params_, setup_, P, r, reach_));

@@ -77,8 +77,11 @@ Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::
 // The whole charge put back together from the domains' Worlds (World::assemble of their owned particles), saved as
 // a checkpoint for cut_charge: how the charge is cut anew once the margin is spent (particles change owner, sectors
 // are rebalanced). setup: as for cut_charge.
+// edit (optional): changes the whole charge before it is saved (particles added or removed: feed, discharge,
+// crushing), as LocalDomains::edit and MpiDomain::edit do between two steps.
 std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
-                            const WorldParams& params, const std::function<void(World&)>& setup);
+                            const WorldParams& params, const std::function<void(World&)>& setup,
+                            const std::function<void(World&)>& edit = nullptr);
 
 // The decomposed charge in one process: `ranks` Worlds cut from a checkpoint of the whole charge.
 class LocalDomains {
@@ -98,6 +101,9 @@ class LocalDomains {
   // covers.
   void step(long n = 1);
   int recuts() const { return recuts_; }  // how often the charge was cut anew
+  // Between two steps: the charge put together, changed by `edit` in one World (particles added or removed, as a
+  // coupled run's feed, discharge and crushing do; new particles take the whole charge's next ids), and cut anew.
+  void edit(const std::function<void(World&)>& edit);
   // The owned particles' state by particle id: x, y, z, vx, vy, vz, wx, wy, wz (kGhostDoubles each), ids ascending.
   void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
   // Bond breaks counted once (by the rank that owns the bond's first particle), in break-log order per rank.
@@ -105,7 +111,7 @@ class LocalDomains {
 
  private:
   void exchange();
-  void recut();
+  void recut(const std::function<void(World&)>& edit = nullptr);
   WorldParams params_;
   std::function<void(World&)> setup_;
   double reach_ = 0;

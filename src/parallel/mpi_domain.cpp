@@ -173,7 +173,9 @@ std::size_t MpiDomain::ghosts() const {
 
 // Through rank 0: every rank's World and ownership mask to it, the whole charge assembled and broadcast, each rank
 // cuts its new part.
-void MpiDomain::recut() {
+void MpiDomain::edit(const std::function<void(dem::World&)>& edit) { recut(edit); }
+
+void MpiDomain::recut(const std::function<void(dem::World&)>& edit) {
   std::ostringstream os;
   core::BinaryWriter w(os);
   d_.world->save_state(w);
@@ -184,8 +186,8 @@ void MpiDomain::recut() {
   const int n_mine = static_cast<int>(mine.size()), n_mask = static_cast<int>(d_.plan.owned.size());
   MPI_Gather(&n_mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, comm_);
   MPI_Gather(&n_mask, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
-  std::string whole;
-  if (rank_ == 0) {
+  std::string whole, err;
+  if (rank_ == 0) try {
     std::vector<std::unique_ptr<dem::World>> parts;
     std::vector<const dem::World*> views;
     std::vector<std::vector<char>> owned;
@@ -202,8 +204,12 @@ void MpiDomain::recut() {
       at += static_cast<std::size_t>(sizes[r]);
       mat += static_cast<std::size_t>(counts[r]);
     }
-    whole = dem::assemble_charge(views, owned, params_, setup_);
+    whole = dem::assemble_charge(views, owned, params_, setup_, edit);
+  } catch (const std::exception& e) {
+    err = e.what();
   }
+  err = broadcast_bytes(comm_, err);  // every rank learns of a failure on rank 0 (none waits for the charge)
+  if (!err.empty()) throw std::runtime_error("re-cut on rank 0: " + err);
   whole = broadcast_bytes(comm_, whole);
   d_ = dem::cut_charge(whole, params_, setup_, size_, rank_, reach_);
   ++recuts_;

@@ -50,6 +50,10 @@ class MpiDomain {
   // Collective: n steps with the ghost exchange, the charge cut anew when the margin is spent.
   void step(long n = 1);
   int recuts() const { return recuts_; }
+  // Collective, between two steps: the charge put together on rank 0, changed there by `edit` (particles added or
+  // removed: feed, discharge, crushing; new particles take the whole charge's next ids; edit runs on rank 0 only),
+  // and cut anew.
+  void edit(const std::function<void(dem::World&)>& edit);
   // Wall seconds this rank spent since construction in the ghost exchange (packing, MPI and waiting for the peers)
   // and in re-cuts, for the benchmark.
   double exchange_seconds() const { return exchange_s_; }
@@ -65,7 +69,7 @@ class MpiDomain {
  private:
   MpiDomain(MPI_Comm comm, const dem::WorldParams& params, const std::function<void(dem::World&)>& setup);
   void exchange();
-  void recut();
+  void recut(const std::function<void(dem::World&)>& edit = nullptr);
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   dem::WorldParams params_;

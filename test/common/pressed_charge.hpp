@@ -4,6 +4,7 @@
 // about and pressed by a descending lid for 3 ms, then saved, so that contacts with histories, bonds and breaks
 // cross the sector boundaries of the steps that follow; and the whole charge's own steps from that state.
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -161,6 +162,26 @@ inline Reference reference(long n, bool plate = false) {
 
 constexpr long kSteps = 300;  // 0.45 ms
 constexpr double kReach = 2e-3 + 1.0e-3;  // a margin of 0.5 mm
+
+// A feed and discharge between steps: the 10 lowest particles (by z, then id) leave and 10 new ones of the same size
+// take their places at rest (new ids), so the box stays full and nothing overlaps.
+inline void recycle_lowest(dem::World& w) {
+  const dem::Particles& p = w.particles();
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return p.z[a] != p.z[b] ? p.z[a] < p.z[b] : p.id[a] < p.id[b];
+  });
+  std::vector<char> remove(p.size(), 0);
+  std::vector<std::array<double, 4>> again;
+  for (std::size_t k = 0; k < 10 && k < order.size(); ++k) {
+    const std::size_t i = order[k];
+    remove[i] = 1;
+    again.push_back({p.x[i], p.y[i], p.z[i], p.r[i]});
+  }
+  w.remove_particles(remove);
+  for (const auto& a : again) w.add_particle(a.data(), a[3], 0);
+}
 
 // The breaks among b logged after the cut (those before it are in every rank's log), as sorted id pairs.
 inline std::vector<std::pair<uint64_t, uint64_t>> breaks_after_cut(const std::vector<dem::BondBreak>& b) {

@@ -3,7 +3,8 @@
 // same cut in one process (LocalDomains) bit for bit, and the whole charge in one World bit for bit on one rank and
 // to round-off on more (the bound and its reason: test/dem/test_ghost_domains.cpp); every particle is owned once,
 // the breaks are the whole World's; re-cuts through rank 0 give the one process's re-cuts bit for bit; a run resumed
-// from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's.
+// from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's;
+// particles added and removed between steps (on rank 0) reach their owners.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -156,6 +157,41 @@ TEST(MpiDomain, ALinerMeshGetsTheWholeChargesWrenchSummedOverTheRanks) {
   EXPECT_LT((sum.torque - ref.plate.torque).norm(), 1e-9 * ref.plate.force.norm() * kHalf);
   std::printf("%d ranks, plate: %d re-cuts, force %.6g N (whole World %.6g N)\n", d.ranks(), d.recuts(), sum.force.z(),
               ref.plate.force.z());
+}
+
+TEST(MpiDomain, ParticlesAddedAndRemovedOnRankZeroGoToTheirOwners) {
+  // a feed and discharge every 100 steps (pressed_charge::recycle_lowest, run on rank 0 on the whole charge): the
+  // same steps as in one process; an edit that fails on rank 0 stops every rank
+  parallel::MpiDomain d(MPI_COMM_WORLD, state(), params(), walls, kReach);
+  for (int k = 0; k < 3; ++k) {
+    d.edit(recycle_lowest);
+    d.step(100);
+  }
+  int refused = 0;
+  try {
+    d.edit([](dem::World&) { throw std::runtime_error("no room for the feed"); });
+  } catch (const std::runtime_error& e) {
+    refused = std::string(e.what()).find("no room for the feed") != std::string::npos;
+  }
+  int all = 0;
+  MPI_Allreduce(&refused, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+  EXPECT_EQ(all, d.ranks());
+  std::vector<uint64_t> ids;
+  std::vector<double> x;
+  d.gather_owned(ids, x);
+  if (!rank_is_root()) return;
+  dem::LocalDomains local(state(), params(), walls, d.ranks(), kReach);
+  for (int k = 0; k < 3; ++k) {
+    local.edit(recycle_lowest);
+    local.step(100);
+  }
+  std::vector<uint64_t> lids;
+  std::vector<double> lx;
+  local.owned_state(lids, lx);
+  ASSERT_EQ(ids, lids);
+  ASSERT_EQ(ids.size(), 500u);
+  ASSERT_EQ(x.size(), lx.size());
+  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
 }
 
 }  // namespace
