@@ -120,16 +120,6 @@ class DemNode {
     }
     ROS_INFO("dem_node: ready, DEM step %.3g s; OpenMP threads wait %s", dem_->dt(),
              core::openmp_wait_policy().c_str());
-    {  // Before it starts: the wall time at the full machine's measured rate (src/coupling/README.md: 8e6
-       // particle-steps/s on 2 cores); the progress lines' ETA then follows this run's own rate.
-      const double n = static_cast<double>(dem_->world().particles().size());
-      const double steps = std::max(0.0, cfg_.run.duration_s - dem_->time()) / dem_->dt();
-      const double threads = cfg_.chamber.threads > 0 ? cfg_.chamber.threads : std::thread::hardware_concurrency();
-      ROS_INFO("dem_node: estimate %s of wall time for %.3f s simulated (%.0f particles now, %.3g DEM steps, at ~4e6 "
-               "particle-steps/s per thread on %.0f threads); the progress lines' ETA follows the real rate",
-               core::duration_text(n * steps / (4e6 * std::max(1.0, threads))).c_str(), cfg_.run.duration_s, n, steps,
-               std::max(1.0, threads));
-    }
     const auto& cr = cfg_.chamber.crushing;
     if (cr.enabled && cr.fragments)
       ROS_INFO("dem_node: crushed spheres break into 4 fragments while these are >= %.1f mm (mass-equivalent) and "
@@ -157,6 +147,7 @@ class DemNode {
     if (resume && out_.empty()) throw std::invalid_argument("~resume needs ~out, the run's folder");
     std::streamoff breaks_size = 0;
     if (resume) breaks_size = resume_from_checkpoint();
+    log_estimate();  // after a resume: from the checkpoint's particles
     if (!out_.empty()) {
       if (!ck_steps_) {
         bag_.open(out_ + "/dem.bag");
@@ -242,6 +233,31 @@ class DemNode {
                "orientation, %ld fragments born smaller to stay within %.2f", dem_->deepest_birth_overlap(),
                dem_->fragments_shrunk_at_birth(), coupling::kFragmentBirthOverlap);
     return status;
+  }
+
+  // Before it starts: the wall time at the full machine's measured rate (src/coupling/README.md: 8e6 particle-steps/s
+  // on 2 cores) for the particles there are (resumed), or the pre-fill's when its mass is bounded (prefill_max_kg,
+  // max_fed_kg); the progress lines' ETA then follows this run's own rate.
+  void log_estimate() const {
+    double n = static_cast<double>(dem_->world().particles().size());
+    const auto& feed = cfg_.chamber.feed;
+    const double first_kg = std::min(feed.max_fed_kg, feed.prefill ? feed.prefill_max_kg : 0.0);
+    if (n == 0 && feed.prefill && first_kg < 1e8) {  // the pre-fill comes with the first coupling step: its bound
+      double kg = 0, count = 0;
+      for (int k = 0; k < dem_->rock_shapes(); ++k) kg += dem_->rock_mass_kg(k), count += dem_->rock_particles(k);
+      if (kg > 0) n = first_kg * count / kg;
+    }
+    if (n == 0) {
+      ROS_INFO("dem_node: no particles yet (the pre-fill comes with the first coupling step): the progress lines give "
+               "the wall time to expect");
+      return;
+    }
+    const double steps = std::max(0.0, cfg_.run.duration_s - dem_->time()) / dem_->dt();
+    const double threads = cfg_.chamber.threads > 0 ? cfg_.chamber.threads : std::thread::hardware_concurrency();
+    ROS_INFO("dem_node: estimate %s of wall time for %.3f s simulated (%.0f particles now, %.3g DEM steps, at ~4e6 "
+             "particle-steps/s per thread on %.0f threads); the progress lines' ETA follows the real rate",
+             core::duration_text(n * steps / (4e6 * std::max(1.0, threads))).c_str(), cfg_.run.duration_s, n, steps,
+             std::max(1.0, threads));
   }
 
  private:
