@@ -163,6 +163,14 @@ inline Reference reference(long n, bool plate = false) {
 constexpr long kSteps = 300;  // 0.45 ms
 constexpr double kReach = 2e-3 + 1.0e-3;  // a margin of 0.5 mm
 
+// The largest difference of the positions (x, y, z of each kGhostDoubles record) of two states (m).
+inline double largest_position_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0;
+  for (std::size_t k = 0; k < a.size() && k < b.size(); ++k)
+    if (k % dem::kGhostDoubles < 3) worst = std::max(worst, std::fabs(a[k] - b[k]));
+  return worst;
+}
+
 // A feed and discharge between steps: the 10 lowest particles (by z, then id) leave and 10 new ones of the same size
 // take their places at rest (new ids), so the box stays full and nothing overlaps.
 inline void recycle_lowest(dem::World& w) {

@@ -31,6 +31,17 @@ bool rank_is_root() {
   return r == 0;
 }
 
+// On rank 0: the MPI run's owned state (ids, x: MpiDomain::gather_owned) equals the same cut stepped in one process.
+void expect_as_in_one_process(const std::vector<uint64_t>& ids, const std::vector<double>& x,
+                              const dem::LocalDomains& local) {
+  std::vector<uint64_t> lids;
+  std::vector<double> lx;
+  local.owned_state(lids, lx);
+  ASSERT_EQ(ids, lids);
+  ASSERT_EQ(x.size(), lx.size());
+  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
+}
+
 TEST(MpiDomain, StepsLikeTheSameCutInOneProcessAndTheWholeCharge) {
   const std::string ckpt = parallel::broadcast_bytes(MPI_COMM_WORLD, rank_is_root() ? state() : std::string());
   ASSERT_EQ(ckpt, state());  // every rank builds the same charge; the broadcast must not change a byte
@@ -43,18 +54,13 @@ TEST(MpiDomain, StepsLikeTheSameCutInOneProcessAndTheWholeCharge) {
   if (!rank_is_root()) return;
   dem::LocalDomains local(state(), params(), walls, d.ranks(), kReach);
   local.step(kSteps);
-  std::vector<uint64_t> lids;
-  std::vector<double> lx;
-  local.owned_state(lids, lx);
-  ASSERT_EQ(ids, lids);
-  ASSERT_EQ(x.size(), lx.size());
-  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
+  expect_as_in_one_process(ids, x, local);
   const Reference ref = reference(kSteps);
   ASSERT_EQ(ids, ref.ids);  // every particle owned by one rank
-  double worst = 0;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (k % dem::kGhostDoubles < 3) worst = std::max(worst, std::fabs(x[k] - ref.x[k]));
-  if (d.ranks() == 1) EXPECT_EQ(worst, 0.0);
+  const double worst = largest_position_difference(x, ref.x);
+  if (d.ranks() == 1) {
+    EXPECT_EQ(worst, 0.0);
+  }
   EXPECT_LT(worst, 1e-13);
   EXPECT_EQ(breaks_after_cut(breaks), ref.breaks);
   EXPECT_FALSE(ref.breaks.empty());
@@ -77,12 +83,7 @@ TEST(MpiDomain, CutsTheChargeAnewLikeOneProcess) {
   local.step(600);
   EXPECT_EQ(d.recuts(), local.recuts());
   EXPECT_GE(d.recuts(), 5);
-  std::vector<uint64_t> lids;
-  std::vector<double> lx;
-  local.owned_state(lids, lx);
-  ASSERT_EQ(ids, lids);
-  ASSERT_EQ(x.size(), lx.size());
-  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
+  expect_as_in_one_process(ids, x, local);
   EXPECT_EQ(breaks_after_cut(breaks), breaks_after_cut(local.breaks()));
 }
 
@@ -146,12 +147,7 @@ TEST(MpiDomain, ALinerMeshGetsTheWholeChargesWrenchSummedOverTheRanks) {
   std::vector<std::shared_ptr<dem::MeshContact>> lmade;
   dem::LocalDomains local(plate_state(), params(), on_plate(&lmade), d.ranks(), reach);
   local.step(600);
-  std::vector<uint64_t> lids;
-  std::vector<double> lx;
-  local.owned_state(lids, lx);
-  ASSERT_EQ(ids, lids);
-  ASSERT_EQ(x.size(), lx.size());
-  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
+  expect_as_in_one_process(ids, x, local);
   const Reference ref = reference(600, true);
   EXPECT_LT((sum.force - ref.plate.force).norm(), 1e-9 * ref.plate.force.norm());
   EXPECT_LT((sum.torque - ref.plate.torque).norm(), 1e-9 * ref.plate.force.norm() * kHalf);
@@ -185,13 +181,8 @@ TEST(MpiDomain, ParticlesAddedAndRemovedOnRankZeroGoToTheirOwners) {
     local.edit(recycle_lowest);
     local.step(100);
   }
-  std::vector<uint64_t> lids;
-  std::vector<double> lx;
-  local.owned_state(lids, lx);
-  ASSERT_EQ(ids, lids);
+  expect_as_in_one_process(ids, x, local);
   ASSERT_EQ(ids.size(), 500u);
-  ASSERT_EQ(x.size(), lx.size());
-  EXPECT_EQ(0, std::memcmp(x.data(), lx.data(), x.size() * sizeof(double))) << "MPI and one process differ";
 }
 
 }  // namespace
