@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -102,6 +104,54 @@ TEST(GhostDomains, CutsTheChargeAnewWhenTheMarginIsSpent) {
     std::printf("ranks %d, %ld steps: %d re-cuts, largest position difference %.3g m, %zu breaks, %zu bonds\n",
                 ranks, kLong, d.recuts(), worst, ref.breaks.size(), ref.bonds.size());
   }
+}
+
+TEST(GhostDomains, ABondedPairThatCrossesASectorBoundaryKeepsItsBond) {
+  // 60 free spheres at rest on a ring of 20 mm about the axis set 3 sectors of ~120 deg; a bonded pair flies at 5 m/s
+  // along x = 5 mm from y = -10 to +10 mm (126 deg of azimuth, no gravity): it must change owner, keep its bond, and
+  // fly as in the whole World
+  dem::WorldParams wp = params();
+  wp.gravity = {0, 0, 0};
+  dem::World w(wp);
+  for (int k = 0; k < 60; ++k) {
+    const double a = 2 * M_PI * (k + 0.5) / 60, x[3] = {0.02 * std::cos(a), 0.02 * std::sin(a), 0};
+    w.add_particle(x, 1e-3, 0);
+  }
+  const double v[3] = {0, 5, 0}, a[3] = {5e-3, -10e-3, -1e-3}, b[3] = {5e-3, -10e-3, 1e-3};
+  const std::size_t i = w.add_particle(a, 1e-3, 0, v), j = w.add_particle(b, 1e-3, 0, v);
+  dem::BondParams bp;
+  bp.kn = 100e9, bp.kt = 40e9, bp.sigma_c = 1e6, bp.tau_c = 1e6;
+  ASSERT_EQ(w.bond_pairs({{i, j}}, bp), 1u);
+  const uint64_t id_i = w.particles().id[i];
+  std::ostringstream os;
+  core::BinaryWriter bw(os);
+  w.save_state(bw);
+  const std::string ckpt = os.str();
+  dem::LocalDomains d(ckpt, wp, nullptr, 3, 2e-3 + 0.2e-3);
+  std::set<int> owners;
+  for (int k = 0; k < 27; ++k) {  // 2700 steps of 1.5 us: 20 mm
+    d.step(100);
+    w.step(100);
+    for (int r = 0; r < 3; ++r) {
+      const long at = d.world(r).index_of(id_i);
+      if (at >= 0 && d.plan(r).owned[at]) owners.insert(r);
+    }
+  }
+  EXPECT_GE(owners.size(), 2u) << "the pair never changed owner";
+  EXPECT_GT(d.recuts(), 10);
+  std::vector<std::pair<uint64_t, uint64_t>> bonds;
+  for (int r = 0; r < 3; ++r) add_intact_bonds(d.world(r), d.plan(r).owned, bonds);
+  ASSERT_EQ(bonds.size(), 1u);
+  EXPECT_EQ(bonds[0].first, id_i);
+  std::vector<uint64_t> ids;
+  std::vector<double> x, wx;
+  d.owned_state(ids, x);
+  std::vector<uint32_t> all(w.particles().size());
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<uint32_t>(k);
+  dem::pack_ghosts(w.particles(), all, wx);
+  ASSERT_EQ(x.size(), wx.size());
+  EXPECT_LT(largest_position_difference(x, wx), 1e-15);
+  EXPECT_NEAR(x[9 * i + 1], 10.25e-3, 1e-6);  // y = -10 mm + 5 m/s x 2700 x 1.5 us = 20.25 mm
 }
 
 TEST(GhostDomains, ParticlesAddedAndRemovedBetweenStepsGoToTheirOwners) {
