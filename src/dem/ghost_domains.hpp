@@ -9,7 +9,8 @@
 // (forces, kick). A pair or bond is computed on each rank that holds both particles, from the same state: an owned
 // particle gets every force it would get in one World; only the order in which its pair forces are summed differs
 // (each World's own neighbour slabs), so positions agree to round-off, not bit for bit (one rank: bit for bit).
-// What the ghosts' own forces sum to is not used.
+// What the ghosts' own forces sum to is not used: pairs and bonds of two ghosts are left out, meshes skip ghosts
+// (World::set_ghosts), so a rank's liner wrench is its owned particles' share.
 //
 // The layout holds while no particle has moved more than margin = (reach - 2 r_max) / 2 from where it was at the
 // cut: two particles that were `reach` apart cannot touch before. Then the charge is cut anew: put back together
@@ -38,8 +39,8 @@ struct GhostPlan {
 };
 
 // Cuts rank r's part out of a World that holds the whole charge (for example loaded from its checkpoint): removes
-// every particle the rank neither owns nor sees as a ghost (their bonds and contact histories go with them) and
-// returns the exchange plan. `layout` is rank_layout() of the whole charge's particles in the World's order.
+// every particle the rank neither owns nor sees as a ghost (their bonds and contact histories go with them), marks
+// the ghosts (World::set_ghosts) and returns the exchange plan. `layout` is rank_layout() of the whole charge's particles in the World's order.
 // Throws std::invalid_argument when the layout does not match the World's particle count, or when a bond of an
 // owned particle has its other end beyond the ghosts (reach shorter than the bond: named).
 GhostPlan cut_domain(World& w, const RankLayout& layout, int rank);
