@@ -23,8 +23,8 @@ int size_of(MPI_Comm c) {
   return n;
 }
 
-// Rank 0 gets every rank's bytes, concatenated in rank order.
-std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine) {
+// Rank 0 gets every rank's bytes, concatenated in rank order (and, when asked, each rank's byte count).
+std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine, std::vector<int>* counts_out = nullptr) {
   const int size = size_of(comm), rank = rank_of(comm);
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(size), displs(size);
@@ -35,6 +35,7 @@ std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine) {
     all.resize(static_cast<std::size_t>(displs[size - 1] + counts[size - 1]));
   }
   MPI_Gatherv(mine.data(), n, MPI_CHAR, all.data(), counts.data(), displs.data(), MPI_CHAR, 0, comm);
+  if (counts_out) *counts_out = counts;
   return all;
 }
 
@@ -180,12 +181,9 @@ void MpiDomain::recut(const std::function<void(dem::World&)>& edit) {
   core::BinaryWriter w(os);
   d_.world->save_state(w);
   const std::string mine = os.str();
-  const std::vector<char> world_bytes = gather_bytes(comm_, std::vector<char>(mine.begin(), mine.end()));
-  const std::vector<char> mask_bytes = gather_bytes(comm_, d_.plan.owned);
-  std::vector<int> sizes(static_cast<std::size_t>(size_)), counts(static_cast<std::size_t>(size_));
-  const int n_mine = static_cast<int>(mine.size()), n_mask = static_cast<int>(d_.plan.owned.size());
-  MPI_Gather(&n_mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, comm_);
-  MPI_Gather(&n_mask, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
+  std::vector<int> sizes, counts;
+  const std::vector<char> world_bytes = gather_bytes(comm_, std::vector<char>(mine.begin(), mine.end()), &sizes);
+  const std::vector<char> mask_bytes = gather_bytes(comm_, d_.plan.owned, &counts);
   std::string whole, err;
   if (rank_ == 0) try {
     std::vector<std::unique_ptr<dem::World>> parts;
