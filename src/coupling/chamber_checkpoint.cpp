@@ -47,6 +47,14 @@ std::vector<double> fingerprint(const ChamberDem& d) {
 }  // namespace
 
 void ChamberDem::save_state(core::BinaryWriter& w) {
+  if (!decomposed_) {
+    write_state(w);
+    return;
+  }
+  edit_whole([&] { write_state(w); });  // the whole charge, on the root; the run continues cut anew from it
+}
+
+void ChamberDem::write_state(core::BinaryWriter& w) {
   w.tag("CHMB");
   w.put_vec(fingerprint(*this));
   w.put<char>(prefilled_);
@@ -86,6 +94,7 @@ void ChamberDem::save_state(core::BinaryWriter& w) {
 }
 
 void ChamberDem::load_state(core::BinaryReader& r) {
+  focus(*whole_);  // decomposed: the whole charge is read, then cut anew
   r.expect("CHMB");
   std::vector<double> f;
   r.get_vec(f, 1000);
@@ -135,6 +144,7 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   if (fines_) fines_->load_state(r);
   world_->load_state(r);
   r.expect("CEND");
+  if (make_engine_) start_engine();
 }
 
 }  // namespace coupling

@@ -118,7 +118,8 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
   // Smallest sphere of rock density whose Rayleigh step keeps this step stable (fragments of crushed spheres).
   fragment_min_radius_ =
       dt / (wp.max_rayleigh_fraction * dem::rayleigh_time_step(1.0, rock_density_, wp.materials.material(kRock)));
-  world_ = std::make_unique<dem::World>(wp);
+  wp_ = wp;
+  whole_ = std::make_unique<dem::World>(wp);
   gravity_ = std::sqrt(wp.gravity[0] * wp.gravity[0] + wp.gravity[1] * wp.gravity[1] + wp.gravity[2] * wp.gravity[2]);
 
   // Liners from the shared geometry (the concave refined at the force-map ring boundaries), plus a
@@ -129,21 +130,23 @@ ChamberDem::ChamberDem(const ChamberParams& p) : p_(p), bond_(p.bpm.bond.params(
                                   dem::NormalSide::Outward, 0.0, "mantle_cap");
   auto hopper = dem::revolve_profile({conc.back(), {z_top_ + p_.feed.choke_height_m + 3.0 * rock, r_ctop}},
                                      p_.liner_sectors, dem::NormalSide::Inward, 0.0, "hopper");
-  mantle_ = std::make_shared<dem::MeshContact>(std::move(liners.mantle), wp.materials, kSteel);
-  concave_ = std::make_shared<dem::MeshContact>(std::move(liners.concave), wp.materials, kSteel);
-  cap_ = std::make_shared<dem::MeshContact>(std::move(cap), wp.materials, kSteel);
-  hopper_ = std::make_shared<dem::MeshContact>(std::move(hopper), wp.materials, kSteel);
+  auto mantle = std::make_shared<dem::MeshContact>(std::move(liners.mantle), wp.materials, kSteel);
+  auto concave = std::make_shared<dem::MeshContact>(std::move(liners.concave), wp.materials, kSteel);
+  auto cap_mesh = std::make_shared<dem::MeshContact>(std::move(cap), wp.materials, kSteel);
+  auto hopper_mesh = std::make_shared<dem::MeshContact>(std::move(hopper), wp.materials, kSteel);
   // The walls the prefill keeps rock within, as drawn by the meshes above (liner frames, z ascending).
   for (const auto& q : mant) inner_.z.push_back(q.z), inner_.r.push_back(q.r);
   inner_.z.push_back(mant.back().z + 0.6 * r_mtop), inner_.r.push_back(0.0);
   for (const auto& q : conc) outer_.z.push_back(q.z), outer_.r.push_back(q.r);
   outer_.z.push_back(z_top_ + p_.feed.choke_height_m + 3.0 * rock), outer_.r.push_back(r_ctop);
-  concave_->set_regions(std::move(liners.concave_regions));  // 13 x 9 areas P_{ring,sector} (section 4.2.3)
+  concave->set_regions(std::move(liners.concave_regions));  // 13 x 9 areas P_{ring,sector} (section 4.2.3)
   force_avg_ = dem::RegionAverager(p_.rings * p_.sectors);
-  for (auto& m : {mantle_, concave_, cap_, hopper_}) {
-    m->set_threads(world_->threads());
-    world_->add_interaction(m);
+  for (auto& m : {mantle, concave, cap_mesh, hopper_mesh}) {  // interactions 0-3 of every World of the run (focus)
+    m->set_threads(whole_->threads());
+    whole_->add_interaction(m);
   }
+  focus(*whole_);
+  engine_ = std::make_unique<dem::WholeEngine>(*whole_);
 
   r_feed_out_ = r_ctop - 0.6 * rock;
   r_feed_in_ = std::max(0.5 * rock, 0.35 * r_feed_out_);
@@ -186,7 +189,6 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
   // Whole DEM steps per coupling interval, each no longer than the stable step chosen at start.
   const long n = std::max(1L, static_cast<long>(std::ceil(duration / dt_max_ - 1e-9)));
   const double h = duration / n;
-  if (std::abs(h - world_->dt()) > 1e-15 * h) world_->set_dt(h);
   using clk = std::chrono::steady_clock;
   auto t1 = clk::now();
   auto lap = [this, &t1](int k) {  // phase_seconds()
@@ -200,62 +202,91 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
     prefilled_ = true;
     lap(5);
   }
-  BodyWrench wm, wc;
+  if (make_engine_ && !decomposed_) start_engine();
+  for (int j = 0; j < engine_->parts(); ++j) {
+    dem::World& w = engine_->part(j);
+    if (std::abs(h - w.dt()) > 1e-15 * h) w.set_dt(h);
+  }
+  // Per part: mantle and concave force and torque (12) integrated over the interval, then the force map's regions;
+  // summed over the parts in order and over the processes (DomainEngine::sum) at the end.
+  const std::size_t nr = force_avg_.sums().size();
+  std::vector<std::vector<double>> acc(engine_->parts(), std::vector<double>(12 + (decomposed_ ? nr : 0), 0.0));
+  auto add3 = [](double* to, const Eigen::Vector3d& v, double h) {
+    for (int q = 0; q < 3; ++q) to[q] += v[q] * h;
+  };
   for (long k = 0; k < n; ++k) {
     const double tau = (k + 1) * h;  // positions at the end of the drift of this step
-    set_liners(m, c, tau);
+    for (int j = 0; j < engine_->parts(); ++j) {
+      focus(engine_->part(j));
+      set_liners(m, c, tau);
+    }
     lap(1);
-    world_->step(1);
+    engine_->step();
+    focus(engine_->part(0));
     if (!growing_.empty()) grow_fragments(h);
     if (progress_) progress_();
     lap(0);
-    for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
-      deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
     const Eigen::Vector3d com_m = m.com + m.velocity * tau, com_c = c.com + c.velocity * tau;
-    for (const auto* mc : {mantle_.get(), cap_.get()}) {
-      const auto a = mc->wrench_about(com_m);
-      wm.force += a.force * h;
-      wm.torque += a.torque * h;
+    for (int j = 0; j < engine_->parts(); ++j) {
+      focus(engine_->part(j));
+      double* a = acc[j].data();
+      for (const auto* mc : {mantle_, cap_, concave_, hopper_})
+        deepest_liner_overlap_ = std::max(deepest_liner_overlap_, mc->worst_overlap().first);
+      for (const auto* mc : {mantle_, cap_}) {
+        const auto w = mc->wrench_about(com_m);
+        add3(a, w.force, h), add3(a + 3, w.torque, h);
+      }
+      for (const auto* mc : {concave_, hopper_}) {
+        const auto w = mc->wrench_about(com_c);
+        add3(a + 6, w.force, h), add3(a + 9, w.torque, h);
+      }
+      if (decomposed_) {
+        const auto& f = concave_->region_normal_force();
+        for (std::size_t r = 0; r < nr && r < f.size(); ++r) a[12 + r] += f[r] * h;
+      }
     }
-    for (const auto* mc : {concave_.get(), hopper_.get()}) {
-      const auto b = mc->wrench_about(com_c);
-      wc.force += b.force * h;
-      wc.torque += b.torque * h;
-    }
+    focus(engine_->part(0));
     lap(1);
-    if (fines_) {
+    if (fines_ && engine_->root()) {  // the root's part carries the fines' wrench
       const auto f = fines_->step(isometry(mantle_->mesh().pose()), isometry(concave_->mesh().pose()), com_m, com_c,
                                   h, gravity_);
-      wm.force += f.f_mantle * h;
-      wm.torque += f.t_mantle * h;
-      wc.force += f.f_concave * h;
-      wc.torque += f.t_concave * h;
+      double* a = acc[0].data();
+      add3(a, f.f_mantle, h), add3(a + 3, f.t_mantle, h), add3(a + 6, f.f_concave, h), add3(a + 9, f.t_concave, h);
       fines_force_ = f.normal_force;
       lap(2);
     }
-    force_avg_.add(concave_->region_normal_force(), h);
+    if (!decomposed_) force_avg_.add(concave_->region_normal_force(), h);
     force_window_s_ += h;
     lap(1);
     if (p_.crushing.enabled) crush_squeezed(k + 1 == n);
     lap(3);
-    if (world_->time() >= next_bookkeeping_ - 1e-12) {
-      bookkeeping();
-      next_bookkeeping_ = world_->time() + p_.bookkeeping_s;
+    if (time() >= next_bookkeeping_ - 1e-12) {
+      edit_whole([this] {
+        bookkeeping();
+        prune_growing();
+      });
+      next_bookkeeping_ = time() + p_.bookkeeping_s;
     }
     lap(4);
   }
-  for (auto* w : {&wm, &wc}) {
-    w->force /= duration;
-    w->torque /= duration;
+  std::vector<double> total = acc[0];
+  for (std::size_t j = 1; j < acc.size(); ++j)
+    for (std::size_t q = 0; q < total.size(); ++q) total[q] += acc[j][q];
+  if (decomposed_) {
+    engine_->sum(total);
+    force_avg_.add_integral(std::vector<double>(total.begin() + 12, total.end()), duration);
+    deepest_liner_overlap_ = engine_->max(deepest_liner_overlap_);
   }
+  BodyWrench wm, wc;
+  wm.force = Eigen::Vector3d(total[0], total[1], total[2]) / duration;
+  wm.torque = Eigen::Vector3d(total[3], total[4], total[5]) / duration;
+  wc.force = Eigen::Vector3d(total[6], total[7], total[8]) / duration;
+  wc.torque = Eigen::Vector3d(total[9], total[10], total[11]) / duration;
   return {wm, wc};
 }
 
 void ChamberDem::bookkeeping() {
-  const auto& br = world_->breaks();
-  broken_total_ += static_cast<long>(br.size());
-  breaks_.insert(breaks_.end(), br.begin(), br.end());
-  world_->clear_breaks();
+  harvest_breaks();
   discharge();
   if (fines_) {  // fines that fell out of the bed's bottom band
     const auto out = from_flow_.map(fines_->take_discharged());
@@ -465,24 +496,53 @@ void ChamberDem::discharge() {
 // spheres found crushed within crushing.batch_s go together (flush: now, e.g. at the end of a coupling
 // interval, so that no pending crush crosses a checkpoint).
 void ChamberDem::crush_squeezed(bool flush) {
-  const auto& P = world_->particles();
-  const std::vector<const dem::MeshContact*> liners{mantle_.get(), cap_.get(), concave_.get(), hopper_.get()};
-  if (p_.crushing.stress_criterion) world_->contact_stress(stress_);
   const CrushingStrength strength(p_.crushing);
-  for (std::size_t i : p_.crushing.stress_criterion ? crushed_by_stress(P, stress_, liners, strength, rock_density_)
-                                                    : crushed_particles(P, liners, strength, rock_density_)) {
-    if (pending_crush_.empty()) first_crush_t_ = world_->time();
-    pending_crush_.push_back(P.id[i]);
+  for (int j = 0; j < engine_->parts(); ++j) {  // each part's owned particles: all their contacts are there
+    focus(engine_->part(j));
+    const auto& P = world_->particles();
+    const std::vector<char>* owned = engine_->owned(j);
+    const std::vector<const dem::MeshContact*> liners{mantle_, cap_, concave_, hopper_};
+    if (p_.crushing.stress_criterion) world_->contact_stress(stress_);
+    for (std::size_t i : p_.crushing.stress_criterion ? crushed_by_stress(P, stress_, liners, strength, rock_density_)
+                                                      : crushed_particles(P, liners, strength, rock_density_)) {
+      if (owned && !(*owned)[i]) continue;
+      if (pending_crush_.empty()) first_crush_t_ = world_->time();
+      pending_crush_.push_back(P.id[i]);
+    }
   }
-  if (pending_crush_.empty() || (!flush && world_->time() - first_crush_t_ < p_.crushing.batch_s - 1e-15)) return;
+  focus(engine_->part(0));
+  // The batch starts at the first crush found on any process.
+  const double first = engine_->min(pending_crush_.empty() ? std::numeric_limits<double>::infinity() : first_crush_t_);
+  if (std::isinf(first) || (!flush && time() - first < p_.crushing.batch_s - 1e-15)) return;
   std::sort(pending_crush_.begin(), pending_crush_.end());
   pending_crush_.erase(std::unique(pending_crush_.begin(), pending_crush_.end()), pending_crush_.end());
+  // Where each crushed sphere presses a liner, from the part that owns it (the fragments' obstacles at birth).
+  LinerPlanes planes;
+  for (int j = 0; j < engine_->parts(); ++j) {
+    focus(engine_->part(j));
+    const auto& P = world_->particles();
+    for (const auto* mc : {mantle_, cap_, concave_, hopper_})
+      for (const auto& c : mc->contacts())
+        if (contact_is_current(P, c) && std::binary_search(pending_crush_.begin(), pending_crush_.end(), c.particle_id))
+          planes.push_back({c.particle_id, {c.point, c.normal}});
+  }
+  std::vector<uint64_t> ids;
+  gather_crushed(pending_crush_, planes, ids);
+  pending_crush_.clear();
+  edit_whole([&] {
+    harvest_breaks();
+    crush(ids, planes);
+    prune_growing();
+  });
+}
+
+void ChamberDem::crush(const std::vector<uint64_t>& ids, const LinerPlanes& planes) {
+  const auto& P = world_->particles();
   std::vector<std::size_t> idx;
-  for (uint64_t id : pending_crush_) {
+  for (uint64_t id : ids) {
     const long i = world_->index_of(id);
     if (i >= 0) idx.push_back(static_cast<std::size_t>(i));
   }
-  pending_crush_.clear();
   std::sort(idx.begin(), idx.end());
   if (idx.empty()) return;
   std::vector<char> remove(P.size(), 0);
@@ -527,7 +587,7 @@ void ChamberDem::crush_squeezed(bool flush) {
       for (auto& t : batch[n].turns) t = random_orientation().toRotationMatrix();
     }
   }
-  if (p_.crushing.fragments) birth_obstacles(idx, remove, batch);
+  if (p_.crushing.fragments) birth_obstacles(idx, remove, planes, batch);
   const auto placed_all = place_crushed_batch(batch, grow);
   for (std::size_t n = 0; n < idx.size(); ++n) {
     const std::size_t i = idx[n];
@@ -568,7 +628,7 @@ void ChamberDem::crush_squeezed(bool flush) {
 }
 
 void ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx, const std::vector<char>& crushed,
-                                 std::vector<CrushedSphere>& batch) const {
+                                 const LinerPlanes& planes, std::vector<CrushedSphere>& batch) const {
   const auto& P = world_->particles();
   if (idx.empty()) return;
   double r_max = 0;
@@ -596,22 +656,27 @@ void ChamberDem::birth_obstacles(const std::vector<std::size_t>& idx, const std:
           }
         }
   }
-  for (const auto* mc : {mantle_.get(), cap_.get(), concave_.get(), hopper_.get()})
-    for (const auto& c : mc->contacts())
-      if (contact_is_current(P, c) && slot[c.particle_index] >= 0)
-        batch[slot[c.particle_index]].obstacles.push_back({c.point, c.normal, 0.0});
+  for (const auto& [id, plane] : planes) {
+    const long i = world_->index_of(id);
+    if (i >= 0 && slot[i] >= 0) batch[slot[i]].obstacles.push_back({plane.first, plane.second, 0.0});
+  }
 }
 
-// Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius.
+// Growing fragments (crush_squeezed) swell at constant mass by rate x h per step until their rock-density radius, in
+// every part that holds them (owner and ghosts alike). A fragment no part here holds stays listed until the root's
+// next edit (prune_growing): it may be on another process.
 void ChamberDem::grow_fragments(double h) {
-  const auto& P = world_->particles();
   std::size_t keep = 0;
   for (const Growing& g : growing_) {
-    const long i = world_->index_of(g.id);
-    if (i < 0) continue;  // crushed again or discharged while growing
-    const double r = std::min(g.r_end, P.r[i] + g.rate * h);
-    world_->set_radius(static_cast<std::size_t>(i), r);
-    if (r < g.r_end) growing_[keep++] = g;
+    double r = -1;
+    for (int j = 0; j < engine_->parts(); ++j) {
+      dem::World& w = engine_->part(j);
+      const long i = w.index_of(g.id);
+      if (i < 0) continue;
+      r = std::min(g.r_end, w.particles().r[i] + g.rate * h);
+      if (r != w.particles().r[i]) w.set_radius(static_cast<std::size_t>(i), r);
+    }
+    if (r < 0 ? decomposed_ : r < g.r_end) growing_[keep++] = g;  // one World: absent = crushed again or discharged
   }
   growing_.resize(keep);
 }
@@ -634,8 +699,17 @@ ProductState ChamberDem::product() const {
   s.crushed_kg = crushed_kg_;
   s.metaparticles_crushed = crushed_count_;
   s.metaparticles_fragmented = fragmented_count_;
-  const auto& P = world_->particles();
-  for (std::size_t i = 0; i < P.size(); ++i) s.in_chamber_kg += P.m[i];
+  std::vector<double> kg{0.0};  // per part, summed in part order, then over the processes (as DomainEngine::sum)
+  for (int j = 0; j < engine_->parts(); ++j) {
+    const auto& P = engine_->part(j).particles();
+    const std::vector<char>* owned = engine_->owned(j);
+    double part = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (!owned || (*owned)[i]) part += P.m[i];
+    kg[0] = j == 0 ? part : kg[0] + part;
+  }
+  engine_->sum(kg);
+  s.in_chamber_kg = kg[0];
   if (fines_) {
     s.fines_bed_kg = fines_->mass_kg() + fines_->untaken_kg();  // what left its bottom joins the discharge later
     s.in_chamber_kg += s.fines_bed_kg;

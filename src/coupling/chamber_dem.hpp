@@ -19,6 +19,7 @@
 #include "coupling/chamber_params.hpp"
 #include "chamber/flow_model.hpp"
 #include "chamber/size_classes.hpp"
+#include "dem/domain_engine.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/region_map.hpp"
 #include "dem/world.hpp"
@@ -65,9 +66,24 @@ class ChamberDem {
   // coupling step that takes long on a busy machine). Keep it cheap; empty: none.
   void set_progress_hook(std::function<void()> hook) { progress_ = std::move(hook); }
 
+  // Runs the DEM decomposed (issue 25; dem/domain_engine.hpp): from the next advance after the prefill (at once when
+  // there is none or a checkpoint was loaded) the charge lives in the engine's parts, made by `make` from the whole
+  // charge. The liner wrenches, region forces and deepest overlap are reduced over the parts once per advance; the
+  // crushing criterion runs on each part's owned particles; feed, discharge, screening, trajectories, fragment
+  // placement and the fines' flow model run on the whole charge on the root process, between two steps
+  // (DomainEngine::edit), at each bookkeeping interval and crushing batch. Decomposed, world() and the liner
+  // accessors are this process's first part, and product(), trajectories() and take_breaks() are the root's; advance(),
+  // product() and save_state() are collective. A checkpoint holds the whole charge; a decomposed run resumes it cut
+  // anew (save_state cuts the saving run anew too, so both continue alike).
+  void decompose(dem::EngineFactory make);
+  bool decomposed() const { return decomposed_; }
+  const dem::DomainEngine& engine() const { return *engine_; }
+
   double time() const { return world_->time(); }
   double dt() const { return world_->dt(); }
   const dem::World& world() const { return *world_; }
+  // Every particle of the charge this process owns, by id: x, y, z, vx, vy, vz, wx, wy, wz (dem::kGhostDoubles each).
+  void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
   const dem::MeshContact& mantle() const { return *mantle_; }
   const dem::MeshContact& concave() const { return *concave_; }
   const dem::MeshContact& mantle_cap() const { return *cap_; }
@@ -120,15 +136,28 @@ class ChamberDem {
 
  private:
   void set_liners(const BodyMotion& m, const BodyMotion& c, double tau);
+  // Liner contact planes (point, normal) of particles by id, in liner order (mantle, cap, concave, hopper).
+  using LinerPlanes = std::vector<std::pair<uint64_t, std::pair<Eigen::Vector3d, Eigen::Vector3d>>>;
+  void focus(dem::World& w);             // world_ and the liner pointers on w (its interactions 0-3)
+  void add_liners(dem::World& w) const;  // copies of the liners for a new World of the engine
+  void start_engine();
+  void edit_whole(const std::function<void()>& fn);  // fn on the whole charge (focus), then focus on part 0
+  void harvest_breaks();                 // the World's break log into breaks_
+  void prune_growing();                  // on the whole charge: fragments gone or grown leave growing_
+  void share_growing();                  // growing_ from the root to every process
+  // Every process's crushed ids (mine) and liner planes to the root: ids sorted without repeats, planes in rank order.
+  void gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& planes, std::vector<uint64_t>& ids);
+  void write_state(core::BinaryWriter& w);
   void bookkeeping();
   void feed();
   void discharge();
   void crush_squeezed(bool flush);
+  void crush(const std::vector<uint64_t>& ids, const LinerPlanes& planes);  // on the whole charge
   void grow_fragments(double h);  // fragments growing to the rock's density (crushing.fragment_growth_s), one step h
   // Per crushed sphere (indices idx, batch[n] for idx[n]), what its fragments may touch at birth: the spheres it
   // overlaps and the liners it presses (their tangent planes) as obstacles, the overlapping spheres crushed with it
   // (`crushed`) as crushed_neighbours.
-  void birth_obstacles(const std::vector<std::size_t>& idx, const std::vector<char>& crushed,
+  void birth_obstacles(const std::vector<std::size_t>& idx, const std::vector<char>& crushed, const LinerPlanes& planes,
                        std::vector<CrushedSphere>& batch) const;
   bool place_rock(int shape, const Eigen::Vector3d& centre, const Eigen::Quaterniond& q);
   // A sphere at x (world) of radius r is clear of the liners at their present pose: inside the concave and the
@@ -140,8 +169,13 @@ class ChamberDem {
 
   ChamberParams p_;
   dem::BondParams bond_;
-  std::unique_ptr<dem::World> world_;
-  std::shared_ptr<dem::MeshContact> mantle_, concave_, cap_, hopper_;  // cap rides the mantle, hopper the concave
+  dem::WorldParams wp_;
+  std::unique_ptr<dem::World> whole_;  // the charge (decomposed: as at the decomposition or last load)
+  dem::World* world_ = nullptr;        // the World worked on: whole_, an engine's part, or the whole charge in an edit
+  dem::MeshContact *mantle_ = nullptr, *concave_ = nullptr, *cap_ = nullptr, *hopper_ = nullptr;  // world_'s liners
+  std::unique_ptr<dem::DomainEngine> engine_;  // WholeEngine on whole_ until decompose()
+  dem::EngineFactory make_engine_;
+  bool decomposed_ = false;
   std::vector<rocks::RockPacking> rocks_;
   std::vector<double> rock_mass_, sphere_density_;  // per shape: kg, and its spheres' kg/m^3 (feed.rock_density)
   dem::RegionAverager force_avg_;

@@ -82,6 +82,15 @@ void RegionAverager::add(const std::vector<double>& values, double dt) {
   time_ += dt;
 }
 
+void RegionAverager::add_integral(const std::vector<double>& integrals, double dt) {
+  if (integrals.size() != sum_.size())
+    throw std::invalid_argument("RegionAverager::add_integral: " + std::to_string(integrals.size()) +
+                                " values; accepted: " + std::to_string(sum_.size()));
+  if (!(dt >= 0.0)) throw std::invalid_argument("RegionAverager::add_integral: dt must be >= 0");
+  for (size_t i = 0; i < sum_.size(); ++i) sum_[i] += integrals[i];
+  time_ += dt;
+}
+
 std::vector<double> RegionAverager::mean() const {
   std::vector<double> m(sum_.size(), 0.0);
   if (time_ > 0)

@@ -48,6 +48,7 @@ class RegionAverager {
  public:
   explicit RegionAverager(int regions = 0) : sum_(regions, 0.0) {}
   void add(const std::vector<double>& values, double dt);
+  void add_integral(const std::vector<double>& integrals, double dt);  // values already integrated over dt
   std::vector<double> mean() const;  // zeros for an empty window
   double window() const { return time_; }
   void reset();

@@ -110,6 +110,7 @@ class World {
 
   // ---- extra forces (meshes); called every step after pair, bond and wall forces
   void add_interaction(std::shared_ptr<Interaction> ia) { interactions_.push_back(std::move(ia)); }
+  const std::vector<std::shared_ptr<Interaction>>& interactions() const { return interactions_; }  // in the order added
 
   // ---- time stepping
   TimeStepCheck time_step_check() const;

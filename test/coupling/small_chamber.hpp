@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "coupling/chamber_dem.hpp"
 #include "mbd/mechanism_params.hpp"
@@ -55,6 +56,24 @@ inline coupling::ChamberParams prefilled_small_chamber(double prefill_kg, double
   return p;
 }
 
+// The small chamber on 1 thread with everything a coupled run does between steps at once: choke feed, bonds breaking
+// (a tenth of Table 4's strengths), metaparticles crushed into growing fragments (tensile strength 0.5 MPa:
+// F_c(8 mm) = 36 N, the gyration crushes many) and discharge. The decomposition tests' chamber.
+inline coupling::ChamberParams busy_small_chamber() {
+  auto p = prefilled_small_chamber(0.4, 0.8);
+  p.threads = 1;
+  p.feed.max_rate_kg_s = 4.0;
+  p.bpm.bond.sigma_c = 2.5e6;
+  p.bpm.bond.tau_c = 0.9e6;
+  p.crushing.enabled = true;
+  p.crushing.fragments = true;
+  p.crushing.fragment_growth_s = 5e-3;
+  p.crushing.tensile_strength = 0.5e6;
+  p.crushing.min_fragment_m = 4e-3;
+  p.crushing.batch_s = 2e-4;
+  return p;
+}
+
 // The mantle's motion at time t: axis tilted by `tilt` (rad), precessing at 10 Hz; the liner COM on the axis.
 inline void gyrate(const coupling::ChamberParams& p, double t, double tilt, coupling::BodyMotion* m) {
   const double w = 2 * M_PI * 10;
@@ -64,6 +83,19 @@ inline void gyrate(const coupling::ChamberParams& p, double t, double tilt, coup
   m->angular_velocity = axis.cross(axis_dot);
   m->com = m->orientation * Eigen::Vector3d(0, 0, p.mantle_com_z_m);
   m->velocity = m->angular_velocity.cross(m->com);
+}
+
+// Coupling steps from..to of 1 ms: the mantle gyrates 2 degrees at 10 Hz, the concave rests; each step's mantle and
+// concave force and torque (12 values) appended to wrench.
+inline void gyrate_steps(coupling::ChamberDem& d, const coupling::ChamberParams& p, int from, int to,
+                         std::vector<double>* wrench) {
+  coupling::BodyMotion m, c;
+  c.com = Eigen::Vector3d(0, 0, p.concave_com_z_m);
+  for (int k = from; k < to; ++k) {
+    gyrate(p, k * 1e-3, 2.0 * M_PI / 180, &m);
+    auto [wm, wc] = d.advance(m, c, 1e-3);
+    for (const auto* v : {&wm.force, &wm.torque, &wc.force, &wc.torque}) wrench->insert(wrench->end(), v->data(), v->data() + 3);
+  }
 }
 
 // launch_free_configs/quick_demo.yaml as text.

@@ -1,0 +1,156 @@
+// ChamberDem on a decomposed charge (issue 25, dem/domain_engine.hpp): which World the chamber works on, the liners of
+// the engine's new Worlds, and what goes between the processes (crushed ids and their liner planes, growing fragments).
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "coupling/chamber_dem.hpp"
+
+namespace coupling {
+
+void ChamberDem::focus(dem::World& w) {
+  const auto& ia = w.interactions();
+  if (ia.size() < 4) throw std::logic_error("ChamberDem: a World without the chamber's four liners");
+  world_ = &w;
+  mantle_ = static_cast<dem::MeshContact*>(ia[0].get());
+  concave_ = static_cast<dem::MeshContact*>(ia[1].get());
+  cap_ = static_cast<dem::MeshContact*>(ia[2].get());
+  hopper_ = static_cast<dem::MeshContact*>(ia[3].get());
+}
+
+// The same liners (meshes, regions, threads) as whole_'s, in the same order; their state comes with the checkpoint.
+void ChamberDem::add_liners(dem::World& w) const {
+  const auto& ia = whole_->interactions();
+  for (int k = 0; k < 4; ++k) {
+    const auto& from = static_cast<const dem::MeshContact&>(*ia[k]);
+    auto mc = std::make_shared<dem::MeshContact>(from.mesh(), wp_.materials, 1);  // steel (dem::default_table4)
+    if (from.regions()) mc->set_regions(*from.regions());
+    mc->set_threads(w.threads());
+    w.add_interaction(mc);
+  }
+}
+
+void ChamberDem::decompose(dem::EngineFactory make) {
+  if (decomposed_) throw std::logic_error("ChamberDem::decompose: already decomposed");
+  if (!make) throw std::invalid_argument("ChamberDem::decompose: no engine factory");
+  make_engine_ = std::move(make);
+  if (prefilled_ || !p_.feed.prefill) start_engine();
+}
+
+void ChamberDem::start_engine() {
+  std::ostringstream os;
+  core::BinaryWriter w(os);
+  whole_->save_state(w);
+  engine_ = make_engine_(os.str(), wp_, [this](dem::World& x) { add_liners(x); });
+  decomposed_ = true;
+  focus(engine_->part(0));
+}
+
+void ChamberDem::edit_whole(const std::function<void()>& fn) {
+  engine_->edit([&](dem::World& w) {
+    focus(w);
+    fn();
+  });
+  focus(engine_->part(0));
+  if (decomposed_) share_growing();
+}
+
+void ChamberDem::harvest_breaks() {
+  const auto& br = world_->breaks();
+  broken_total_ += static_cast<long>(br.size());
+  breaks_.insert(breaks_.end(), br.begin(), br.end());
+  world_->clear_breaks();
+}
+
+void ChamberDem::prune_growing() {
+  std::size_t keep = 0;
+  for (const Growing& g : growing_) {
+    const long i = world_->index_of(g.id);
+    if (i >= 0 && world_->particles().r[i] < g.r_end) growing_[keep++] = g;
+  }
+  growing_.resize(keep);
+}
+
+void ChamberDem::share_growing() {
+  std::string mine;
+  if (engine_->root()) {
+    std::ostringstream os;
+    core::BinaryWriter w(os);
+    std::vector<uint64_t> id;
+    std::vector<double> rr;
+    for (const Growing& g : growing_) id.push_back(g.id), rr.push_back(g.r_end), rr.push_back(g.rate);
+    w.put_vec(id);
+    w.put_vec(rr);
+    mine = os.str();
+  }
+  const std::string all = engine_->broadcast(mine);
+  if (engine_->root()) return;
+  std::istringstream is(all);
+  core::BinaryReader r(is, "growing fragments from the root");
+  std::vector<uint64_t> id;
+  std::vector<double> rr;
+  r.get_vec(id);
+  r.get_vec(rr);
+  growing_.clear();
+  for (std::size_t k = 0; k < id.size() && 2 * k + 1 < rr.size(); ++k) growing_.push_back({id[k], rr[2 * k], rr[2 * k + 1]});
+}
+
+// Every process's crushed ids and liner planes to the root: ids sorted without repeats, planes in rank order (each
+// sphere's all from the process that owns it).
+void ChamberDem::gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& planes, std::vector<uint64_t>& ids) {
+  if (!decomposed_) {
+    ids = mine;
+    return;
+  }
+  std::ostringstream os;
+  core::BinaryWriter w(os);
+  std::vector<uint64_t> pid;
+  std::vector<double> pxn;
+  for (const auto& [id, pn] : planes) {
+    pid.push_back(id);
+    pxn.insert(pxn.end(), pn.first.data(), pn.first.data() + 3);
+    pxn.insert(pxn.end(), pn.second.data(), pn.second.data() + 3);
+  }
+  w.put_vec(mine);
+  w.put_vec(pid);
+  w.put_vec(pxn);
+  const std::string all = engine_->gather(os.str());
+  ids.clear();
+  planes.clear();
+  if (!engine_->root()) return;
+  std::istringstream is(all);
+  core::BinaryReader r(is, "crushed spheres from the ranks");
+  while (is.peek() != std::char_traits<char>::eof()) {
+    std::vector<uint64_t> some;
+    r.get_vec(some);
+    r.get_vec(pid);
+    r.get_vec(pxn);
+    if (pxn.size() != 6 * pid.size()) r.fail("liner planes do not match their ids");
+    ids.insert(ids.end(), some.begin(), some.end());
+    for (std::size_t k = 0; k < pid.size(); ++k)
+      planes.push_back({pid[k], {Eigen::Vector3d::Map(&pxn[6 * k]), Eigen::Vector3d::Map(&pxn[6 * k + 3])}});
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+}
+
+void ChamberDem::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
+  std::vector<std::pair<uint64_t, std::pair<int, uint32_t>>> all;
+  for (int j = 0; j < engine_->parts(); ++j) {
+    const auto& P = engine_->part(j).particles();
+    const std::vector<char>* owned = engine_->owned(j);
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (!owned || (*owned)[i]) all.push_back({P.id[i], {j, static_cast<uint32_t>(i)}});
+  }
+  std::sort(all.begin(), all.end());
+  ids.clear();
+  state.clear();
+  std::vector<double> one;
+  for (const auto& [id, at] : all) {
+    ids.push_back(id);
+    dem::pack_ghosts(engine_->part(at.first).particles(), {at.second}, one);
+    state.insert(state.end(), one.begin(), one.end());
+  }
+}
+
+}  // namespace coupling
