@@ -221,7 +221,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
       set_liners(m, c, tau);
     }
     lap(1);
-    engine_->step();
+    step_parts();
     focus(engine_->part(0));
     if (!growing_.empty()) grow_fragments(h);
     if (progress_) progress_();
@@ -264,6 +264,7 @@ std::pair<BodyWrench, BodyWrench> ChamberDem::advance(const BodyMotion& m, const
       edit_whole([this] {
         bookkeeping();
         prune_growing();
+        if (decomposed_) take_snapshot();
       });
       next_bookkeeping_ = time() + p_.bookkeeping_s;
     }
@@ -729,6 +730,7 @@ std::vector<dem::BondBreak> ChamberDem::take_breaks() {
 }
 
 std::vector<int> ChamberDem::fragment_labels() const {
+  if (decomposed_) return snapshot_labels_;
   const auto& P = world_->particles();
   const auto frags = dem::Fragments::from_bonds(P, world_->bonds());
   std::vector<int> out(P.size());

@@ -77,11 +77,19 @@ class ChamberDem {
   // anew (save_state cuts the saving run anew too, so both continue alike).
   void decompose(dem::EngineFactory make);
   bool decomposed() const { return decomposed_; }
+  // Collective, on every process but the root of a decomposed run resumed from a checkpoint, while the root calls
+  // load_state: takes the root's charge and bookkeeping.
+  void follow_load();
+  // The largest sphere of the feed's rocks (m): a decomposition's ghost reach must exceed twice it (bonds, contacts).
+  double largest_sphere_radius() const;
   const dem::DomainEngine& engine() const { return *engine_; }
 
   double time() const { return world_->time(); }
   double dt() const { return world_->dt(); }
   const dem::World& world() const { return *world_; }
+  // The whole charge's particles (and fragment_labels()): world()'s; decomposed, on the root, as at the last
+  // bookkeeping (every bookkeeping_s).
+  const dem::Particles& charge_particles() const { return decomposed_ ? snapshot_ : world_->particles(); }
   // Every particle of the charge this process owns, by id: x, y, z, vx, vy, vz, wx, wy, wz (dem::kGhostDoubles each).
   void owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const;
   const dem::MeshContact& mantle() const { return *mantle_; }
@@ -141,10 +149,12 @@ class ChamberDem {
   void focus(dem::World& w);             // world_ and the liner pointers on w (its interactions 0-3)
   void add_liners(dem::World& w) const;  // copies of the liners for a new World of the engine
   void start_engine();
+  void step_parts();  // one step of every part; a failure on any process thrown on all
   void edit_whole(const std::function<void()>& fn);  // fn on the whole charge (focus), then focus on part 0
   void harvest_breaks();                 // the World's break log into breaks_
   void prune_growing();                  // on the whole charge: fragments gone or grown leave growing_
-  void share_growing();                  // growing_ from the root to every process
+  void share_root_state();               // growing_, next bookkeeping and prefill from the root to every process
+  void take_snapshot();                  // the whole charge's particles and fragment labels (decomposed, root)
   // Every process's crushed ids (mine) and liner planes to the root: ids sorted without repeats, planes in rank order.
   void gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& planes, std::vector<uint64_t>& ids);
   void write_state(core::BinaryWriter& w);
@@ -176,6 +186,8 @@ class ChamberDem {
   std::unique_ptr<dem::DomainEngine> engine_;  // WholeEngine on whole_ until decompose()
   dem::EngineFactory make_engine_;
   bool decomposed_ = false;
+  dem::Particles snapshot_;  // take_snapshot()
+  std::vector<int> snapshot_labels_;
   std::vector<rocks::RockPacking> rocks_;
   std::vector<double> rock_mass_, sphere_density_;  // per shape: kg, and its spheres' kg/m^3 (feed.rock_density)
   dem::RegionAverager force_avg_;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "coupling/chamber_dem.hpp"
+#include "dem/fragments.hpp"
 
 namespace coupling {
 
@@ -30,6 +31,13 @@ void ChamberDem::add_liners(dem::World& w) const {
   }
 }
 
+double ChamberDem::largest_sphere_radius() const {
+  double r = 0;
+  for (const auto& rk : rocks_)
+    for (double x : rk.radii) r = std::max(r, x);
+  return r;
+}
+
 void ChamberDem::decompose(dem::EngineFactory make) {
   if (decomposed_) throw std::logic_error("ChamberDem::decompose: already decomposed");
   if (!make) throw std::invalid_argument("ChamberDem::decompose: no engine factory");
@@ -38,12 +46,38 @@ void ChamberDem::decompose(dem::EngineFactory make) {
 }
 
 void ChamberDem::start_engine() {
+  focus(*whole_);
+  take_snapshot();  // the outputs' charge until the first bookkeeping
   std::ostringstream os;
   core::BinaryWriter w(os);
   whole_->save_state(w);
   engine_ = make_engine_(os.str(), wp_, [this](dem::World& x) { add_liners(x); });
   decomposed_ = true;
   focus(engine_->part(0));
+  share_root_state();
+}
+
+void ChamberDem::follow_load() {
+  if (!make_engine_) throw std::logic_error("ChamberDem::follow_load: not decomposed (decompose first)");
+  start_engine();  // the root's charge, loaded there, comes with the engine; the rest with share_root_state
+}
+
+// A failure in one rank's step (a blow-up) is every rank's: they agree on it before the next exchange, so that all
+// leave advance() with the same message and none waits for a peer that stopped.
+void ChamberDem::step_parts() {
+  if (!decomposed_) {
+    engine_->step();
+    return;
+  }
+  std::string err;
+  try {
+    engine_->step();
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  if (engine_->max(err.empty() ? 0.0 : 1.0) == 0) return;
+  const std::string all = engine_->broadcast(engine_->gather(err.empty() ? std::string() : err + "\n"));
+  throw std::runtime_error(all.substr(0, all.size() - 1));
 }
 
 void ChamberDem::edit_whole(const std::function<void()>& fn) {
@@ -52,7 +86,7 @@ void ChamberDem::edit_whole(const std::function<void()>& fn) {
     fn();
   });
   focus(engine_->part(0));
-  if (decomposed_) share_growing();
+  if (decomposed_) share_root_state();
 }
 
 void ChamberDem::harvest_breaks() {
@@ -71,7 +105,9 @@ void ChamberDem::prune_growing() {
   growing_.resize(keep);
 }
 
-void ChamberDem::share_growing() {
+// What every process needs of the root's bookkeeping to take the same steps and edits: the growing fragments, when
+// the next bookkeeping falls, whether the prefill is done.
+void ChamberDem::share_root_state() {
   std::string mine;
   if (engine_->root()) {
     std::ostringstream os;
@@ -81,18 +117,30 @@ void ChamberDem::share_growing() {
     for (const Growing& g : growing_) id.push_back(g.id), rr.push_back(g.r_end), rr.push_back(g.rate);
     w.put_vec(id);
     w.put_vec(rr);
+    w.put(next_bookkeeping_);
+    w.put<char>(prefilled_);
     mine = os.str();
   }
   const std::string all = engine_->broadcast(mine);
   if (engine_->root()) return;
   std::istringstream is(all);
-  core::BinaryReader r(is, "growing fragments from the root");
+  core::BinaryReader r(is, "the root's bookkeeping");
   std::vector<uint64_t> id;
   std::vector<double> rr;
   r.get_vec(id);
   r.get_vec(rr);
+  if (rr.size() != 2 * id.size()) r.fail("growing fragments do not match their ids");
   growing_.clear();
-  for (std::size_t k = 0; k < id.size() && 2 * k + 1 < rr.size(); ++k) growing_.push_back({id[k], rr[2 * k], rr[2 * k + 1]});
+  for (std::size_t k = 0; k < id.size(); ++k) growing_.push_back({id[k], rr[2 * k], rr[2 * k + 1]});
+  r.get(next_bookkeeping_);
+  prefilled_ = r.get<char>() != 0;
+}
+
+void ChamberDem::take_snapshot() {
+  snapshot_ = world_->particles();
+  const auto frags = dem::Fragments::from_bonds(snapshot_, world_->bonds());
+  snapshot_labels_.resize(snapshot_.size());
+  for (std::size_t i = 0; i < snapshot_.size(); ++i) snapshot_labels_[i] = frags.fragment_of(snapshot_.id[i]);
 }
 
 // Every process's crushed ids and liner planes to the root: ids sorted without repeats, planes in rank order (each

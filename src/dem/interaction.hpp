@@ -35,7 +35,10 @@ struct Interaction {
   // Domain decomposition (ghost_domains.hpp): ghost[i] != 0 marks particle i as a ghost, a copy of a particle another
   // rank owns, whose forces are not used; an interaction may skip it and must leave it out of its totals. Default:
   // ignored (a stateless interaction without totals computes ghosts like the others).
-  virtual void set_ghosts(const std::vector<char>& ghost) { (void)ghost; }
+  virtual void set_ghosts(const Particles& p, const std::vector<char>& ghost) {
+    (void)p;
+    (void)ghost;
+  }
   // World::assemble: this interaction's state put together from the same interaction of each part (whose ghosts it
   // skipped). Default: refused, for an interaction that carries state and does not implement it.
   virtual void assemble_state(const std::vector<const Interaction*>& parts) {

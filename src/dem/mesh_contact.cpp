@@ -304,6 +304,17 @@ void MeshContact::on_reindex(const std::vector<long>& old_to_new) {
   }
 }
 
+void MeshContact::set_ghosts(const Particles& p, const std::vector<char>& ghost) {
+  ghost_ = ghost;
+  std::vector<uint64_t> owned;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (i >= ghost.size() || !ghost[i]) owned.push_back(p.id[i]);
+  std::sort(owned.begin(), owned.end());
+  old_.erase(std::remove_if(old_.begin(), old_.end(),
+                            [&](const Old& o) { return !std::binary_search(owned.begin(), owned.end(), o.id); }),
+             old_.end());
+}
+
 void MeshContact::assemble_state(const std::vector<const Interaction*>& parts) {
   std::vector<const MeshContact*> mc;
   for (const Interaction* ia : parts) {

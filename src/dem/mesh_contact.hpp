@@ -98,8 +98,9 @@ class MeshContact : public Interaction {
   // Particle narrow-phase evaluations (grid queries) of the last step; the others were skipped as far.
   long evaluated() const { return evaluated_; }
   void on_reindex(const std::vector<long>& old_to_new) override;
-  // Ghosts of a domain decomposition are skipped: no contact, force or history; out of the totals.
-  void set_ghosts(const std::vector<char>& ghost) override { ghost_ = ghost; }
+  // Ghosts of a domain decomposition are skipped: no contact, force or history; out of the totals. The histories kept
+  // are the owned particles' (a cut World's mesh comes with the whole charge's: the others' are their owners').
+  void set_ghosts(const Particles& p, const std::vector<char>& ghost) override;
   // The parts' histories (each of the particles its World owned) together, their totals summed (the worst overlap's
   // index is -1: the parts' indices are not this World's), the pose, twist and grid of the first part. Throws
   // std::invalid_argument when a part is not a MeshContact on the same mesh or a history is in two parts.

@@ -160,7 +160,7 @@ void World::set_ghosts(const std::vector<char>& ghost) {
     bonds_dirty_ = true;
   }
   need_rebuild_ = true;  // the neighbour list leaves out pairs of two ghosts
-  for (auto& ia : interactions_) ia->set_ghosts(ghost);
+  for (auto& ia : interactions_) ia->set_ghosts(p_, ghost);
 }
 
 }  // namespace dem

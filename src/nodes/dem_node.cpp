@@ -29,6 +29,7 @@
 #include <thread>
 #include <sys/stat.h>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <unistd.h>
 
@@ -41,6 +42,7 @@
 #include "coupling/lockstep.hpp"
 #include "mbd/mechanism_params.hpp"
 #include "nodes/dem_node_cloud.hpp"
+#include "nodes/dem_node_ranks.hpp"
 #include "nodes/ros_common.hpp"
 #include "nodes/ros_common_force_map.hpp"
 
@@ -114,6 +116,11 @@ class DemNode {
     ROS_INFO("dem_node: packing %d rock shapes...", cfg_.chamber.feed.shapes);
     if (!out_.empty()) cfg_.chamber.blowup_dump_path = out_ + "/dem_blowup.csv";  // a blow-up's state, in the run's folder
     dem_ = std::make_unique<coupling::ChamberDem>(cfg_.chamber);
+    if (nodes::ranks() > 1) {
+      nodes::decompose_over_ranks(*dem_);
+      ROS_INFO("dem_node: the charge on %d MPI ranks (azimuthal sectors; ghosts within %.1f mm; feed, discharge and "
+               "crushing on rank 0, which talks to mbd_node)", nodes::ranks(), 3e3 * dem_->largest_sphere_radius());
+    }
     for (int k = 0; k < dem_->rock_shapes(); ++k) {
       ROS_INFO("dem_node: rock %d: %zu metaparticles, %.3f kg, packing density %.2f, spheres at %.0f kg/m^3", k,
                dem_->rock_particles(k), dem_->rock_mass_kg(k), dem_->packing_density(k), dem_->sphere_density(k));
@@ -215,11 +222,11 @@ class DemNode {
     bag_.close();  // a failure is logged by name
     if (!bag_.error().empty() && !status) status = 1;
     if (!write_trajectories() && !status) status = 1;
-    const auto p = dem_->product();
+    const auto p = product();
     ROS_INFO("dem_node: %.3f s simulated, %zu particles, %ld broken bonds, fed %.2f kg, discharged %.2f kg; "
              "%.2f kg in %ld metaparticles crushed to fines (%.2f kg of them still in the chamber, dem.fines: flow), %ld crushed into "
              "fragments that stayed; %.1f %% of the wall time in coupling waits",
-             dem_->time(), dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
+             dem_->time(), dem_->charge_particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg,
              p.crushed_kg, p.metaparticles_crushed, p.fines_bed_kg, p.metaparticles_fragmented,
              100.0 * wait_s_ / std::max(1e-9, busy_s_ + wait_s_));
     if (const auto* f = dem_->fines()) {  // dem.fines: flow: the fines' own load over the run
@@ -232,6 +239,7 @@ class DemNode {
       ROS_INFO("dem_node: fragment birth (this process): deepest overlap %.2f of the smaller radius in the best "
                "orientation, %ld fragments born smaller to stay within %.2f", dem_->deepest_birth_overlap(),
                dem_->fragments_shrunk_at_birth(), coupling::kFragmentBirthOverlap);
+    nodes::tell_ranks(nodes::RankCall::Stop);
     return status;
   }
 
@@ -239,7 +247,7 @@ class DemNode {
   // on 2 cores) for the particles there are (resumed), or the pre-fill's when its mass is bounded (prefill_max_kg,
   // max_fed_kg); the progress lines' ETA then follows this run's own rate.
   void log_estimate() const {
-    double n = static_cast<double>(dem_->world().particles().size());
+    double n = static_cast<double>(dem_->charge_particles().size());
     const auto& feed = cfg_.chamber.feed;
     const double first_kg = std::min(feed.max_fed_kg, feed.prefill ? feed.prefill_max_kg : 0.0);
     if (n == 0 && feed.prefill && first_kg < 1e8) {  // the pre-fill comes with the first coupling step: its bound
@@ -283,8 +291,9 @@ class DemNode {
       if (ck_steps_ && g->step % ck_steps_ == 0 && g->step != last_checkpoint_) checkpoint_and_rotate(g->step);
       working_step_ = g->step;
       last_beat_ = nodes::wall_now();
-      auto [wm, wc] = dem_->advance(motion(g->mantle_pose, g->mantle_twist),
-                                    motion(g->concave_pose, g->concave_twist), g->dt);
+      const auto mm = motion(g->mantle_pose, g->mantle_twist), mc = motion(g->concave_pose, g->concave_twist);
+      nodes::tell_ranks_advance(mm, mc, g->dt);
+      auto [wm, wc] = dem_->advance(mm, mc, g->dt);
       last_.header.stamp = ros::Time(g->time + g->dt);
       last_.header.frame_id = "world";
       last_.step = g->step;
@@ -307,6 +316,12 @@ class DemNode {
     const double done = nodes::wall_now();
     busy_s_ += done - now;
     last_heard_ = done;
+  }
+
+  // ChamberDem::product, on every rank of a decomposed run (the other ranks add their parts' mass).
+  coupling::ProductState product() {
+    nodes::tell_ranks(nodes::RankCall::Product);
+    return dem_->product();
   }
 
   // Called after every DEM step of advance(): the step being worked on, to mbd_node, every beat_s_ of wall time.
@@ -339,12 +354,12 @@ class DemNode {
     if (now < next_progress_) return;
     next_progress_ = now + 5.0;
     const double t = dem_->time(), T = cfg_.run.duration_s, el = now - start_wall_, done = t - start_sim_;
-    const auto p = dem_->product();
+    const auto p = product();
     // The first line of a (resumed) run has no rate yet.
     const std::string eta = core::duration_text(done > 0 ? el * (T - t) / done : NAN);
     ROS_INFO("dem_node: t %.3f / %.3f s (%.0f %%), ETA %s, %zu particles, %ld broken bonds, fed %.1f kg, "
              "discharged %.2f kg (crushed %.2f kg; fines held %.2f kg, %.0f kN)", t, T, 100.0 * t / T, eta.c_str(),
-             dem_->world().particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg,
+             dem_->charge_particles().size(), dem_->broken_bonds(), p.fed_kg, p.discharged_kg, p.crushed_kg,
              p.fines_bed_kg, 1e-3 * dem_->fines_normal_force());
     if (!warned_squeeze_ && dem_->deepest_liner_overlap() > 0.25) {
       warned_squeeze_ = true;
@@ -363,7 +378,7 @@ class DemNode {
     const ros::Time stamp(dem_->time());
     log_breaks();
     // Product stream.
-    const auto p = dem_->product();
+    const auto p = product();
     inertia_crusher::ProductStream ps;
     ps.header.stamp = stamp;
     for (double s : p.sieve_m) ps.sieve_mm.push_back(s * 1e3);
@@ -395,7 +410,7 @@ class DemNode {
     auto parts = particle_markers(stamp, labels);
     pub_particles_.publish(parts);
     bag_.write("/crusher/particles", stamp, parts);
-    auto state = nodes::particle_cloud(stamp, dem_->world().particles(), labels);
+    auto state = nodes::particle_cloud(stamp, dem_->charge_particles(), labels);
     pub_state_.publish(state);
     bag_.write("/crusher/particle_state", stamp, state);
     auto liners = liner_markers(stamp);
@@ -425,7 +440,7 @@ class DemNode {
 
   // SPHERE_LIST per radius bin (a marker has one scale), coloured by fragment.
   visualization_msgs::MarkerArray particle_markers(const ros::Time& stamp, const std::vector<int>& labels) {
-    const auto& P = dem_->world().particles();
+    const auto& P = dem_->charge_particles();
     constexpr int kBins = 6;
     double rmin = 1e9, rmax = 0;
     for (double r : P.r) rmin = std::min(rmin, r), rmax = std::max(rmax, r);
@@ -521,6 +536,7 @@ class DemNode {
     check_breaks_log();  // the checkpoint must not name a length the log does not have
     const std::streamoff breaks_size = breaks_.is_open() ? static_cast<std::streamoff>(breaks_.tellp()) : 0;
     coupling::write_checkpoint(out_, {"dem", k, dem_->time()}, [&](core::BinaryWriter& w) {
+      nodes::tell_ranks(nodes::RankCall::Save);
       dem_->save_state(w);
       w.tag("NODE");
       w.put(next_output_);
@@ -528,7 +544,7 @@ class DemNode {
     });
     last_checkpoint_ = k;
     ROS_INFO("dem_node: checkpoint at step %llu (t = %.4f s, %zu particles) in %.2f s",
-             static_cast<unsigned long long>(k), dem_->time(), dem_->world().particles().size(),
+             static_cast<unsigned long long>(k), dem_->time(), dem_->charge_particles().size(),
              nodes::wall_now() - w0);
   }
 
@@ -539,6 +555,7 @@ class DemNode {
     for (const auto& d : damaged) ROS_WARN("%s: %s", "dem_node", d.c_str());
     std::streamoff breaks_size = 0;
     auto h = coupling::read_checkpoint(out_, "dem", k, [&](core::BinaryReader& r) {
+      nodes::tell_ranks(nodes::RankCall::Load);
       dem_->load_state(r);
       r.expect("NODE");
       r.get(next_output_);
@@ -548,7 +565,7 @@ class DemNode {
     resume_step_ = last_checkpoint_ = k;
     coupling::remove_checkpoints_after(out_, "dem", k);
     ROS_INFO("dem_node: resumed from the checkpoint at step %llu (t = %.4f s, %zu particles)",
-             static_cast<unsigned long long>(k), h.time, dem_->world().particles().size());
+             static_cast<unsigned long long>(k), h.time, dem_->charge_particles().size());
     return breaks_size;
   }
 
@@ -577,9 +594,47 @@ class DemNode {
 
 }  // namespace
 
+int run_node(int argc, char** argv);
+
+// A rank other than 0 of an MPI run: no ROS; the config from the same arguments (_config:=, _out:=); steps its part
+// of the charge as rank 0 tells it. Stop signals are rank 0's to act on (it closes its bag, then tells the ranks).
+int follow_on_rank(int argc, char** argv) {
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
+  std::string config_path, out;
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    if (a.rfind("_config:=", 0) == 0) config_path = a.substr(9);
+    if (a.rfind("_out:=", 0) == 0) out = a.substr(6);
+  }
+  try {
+    Config cfg = load_config(config_path);
+    if (!out.empty()) cfg.chamber.blowup_dump_path = out + "/dem_blowup.rank" + std::to_string(nodes::rank()) + ".csv";
+    coupling::ChamberDem dem(cfg.chamber);
+    nodes::decompose_over_ranks(dem);
+    const int status = nodes::follow_rank0(dem);
+    nodes::finish_ranks();
+    return status;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dem_node rank %d: %s; stopping every rank\n", nodes::rank(), e.what());
+    nodes::abort_ranks(2);
+  }
+}
+
 int main(int argc, char** argv) {
   core::prefer_passive_openmp_wait(argv);  // a shared machine: the DEM's threads sleep while they wait
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a redirected log as they are written
+  if (nodes::launched_by_mpirun()) {
+    nodes::init_ranks(&argc, &argv);
+    if (nodes::rank() > 0) return follow_on_rank(argc, argv);
+  }
+  const int status = run_node(argc, argv);
+  if (nodes::ranks() > 1 && status == 2) nodes::abort_ranks(2);  // set-up failed: the ranks wait for a call
+  nodes::finish_ranks();
+  return status;
+}
+
+int run_node(int argc, char** argv) {
   ros::init(argc, argv, "dem_node", ros::init_options::NoSigintHandler);
   nodes::install_stop_handler();
   ros::NodeHandle nh, pnh("~");

@@ -70,7 +70,7 @@ def number(kind, lo, hi):
 def parse_args(argv):
     p = argparse.ArgumentParser(prog="crusher sweep", description=HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
                                 usage="crusher sweep CONFIG --vary KEY=FROM:TO:STEP [--vary KEY=...] --out DIR "
-                                      "[--jobs N] [--load none|bed|flow|dem] [--duration S] [--bag] "
+                                      "[--jobs N] [--load none|bed|flow|dem] [--duration S] [--ranks N] [--bag] "
                                       "[--backend local|slurm [--partition P] [--time T] [--cpus-per-case N]] [--no-plots]")
     p.add_argument("config", metavar="CONFIG")
     p.add_argument("--vary", action="append", required=True, metavar="KEY=FROM:TO:STEP",
@@ -80,6 +80,8 @@ def parse_args(argv):
     p.add_argument("--load", choices=["none", "bed", "flow", "dem"], help="passed to crusher run (default: the config's)")
     p.add_argument("--duration", type=number(float, 1e-3, 3600), metavar="S",
                    help="passed to crusher run: simulated seconds per case (run.duration_s's range)")
+    p.add_argument("--ranks", type=number(int, 1, 4096), metavar="N",
+                   help="load dem: each case's dem_node on N MPI ranks (crusher run --ranks; slurm: N tasks per case)")
     p.add_argument("--bag", action="store_true", help="keep each case's run.bag (removed otherwise)")
     p.add_argument("--backend", choices=["local", "slurm"], default="local")
     p.add_argument("--partition", help="slurm: the partition (default: the cluster's default)")
@@ -91,12 +93,17 @@ def parse_args(argv):
         p.error("--jobs must be >= 1")
     if a.backend == "local" and (a.partition or a.time):
         p.error("--partition and --time are for --backend slurm")
+    if a.ranks and a.load not in (None, "dem"):
+        p.error(f"--ranks runs the coupled DEM on MPI ranks: it needs --load dem (or the config's), not --load {a.load}")
     return a
 
 
 def options(a):
     """What a case's result depends on besides case.yaml (a change reruns the case)."""
-    return {"load": a.load, "duration": a.duration}
+    o = {"load": a.load, "duration": a.duration}
+    if getattr(a, "ranks", None):  # only when given: the cases of a sweep made before the option keep their results
+        o["ranks"] = a.ranks
+    return o
 
 
 def load_json(path):
@@ -194,6 +201,8 @@ def run_case(case_dir, opts, keep_bag):
         cmd += ["--load", opts["load"]]
     if opts["duration"]:
         cmd += ["--duration", repr(opts["duration"])]
+    if opts.get("ranks"):
+        cmd += ["--ranks", str(opts["ranks"])]
     env = dict(os.environ, CRUSHER_NO_BUILD="1", CRUSHER_RUN_PLOTS="0")  # built once by the sweep; no plots per case
     if not keep_bag:
         env["CRUSHER_RUN_BAG"] = "0"  # its bags are deleted below: not joined first (seconds per case)
@@ -368,11 +377,12 @@ def main(argv):
 
 
 def run_case_main(argv):
-    """`sweep.py --run-case CASEDIR [--load L] [--duration S] [--bag]`: one case (the Slurm job's command)."""
+    """`sweep.py --run-case CASEDIR [--load L] [--duration S] [--ranks N] [--bag]`: one case (the Slurm job's command)."""
     p = argparse.ArgumentParser(prog="sweep.py --run-case")
     p.add_argument("case_dir")
     p.add_argument("--load")
     p.add_argument("--duration", type=float)
+    p.add_argument("--ranks", type=int)
     p.add_argument("--bag", action="store_true")
     a = p.parse_args(argv)
     try:

@@ -22,6 +22,8 @@ def ros_setup():
 def batch_script(sdir, listing, n, a, opts):
     lines = ["#!/bin/bash", "#SBATCH --job-name=crusher-sweep", f"#SBATCH --array=0-{n - 1}",
              f"#SBATCH --cpus-per-task={a.cpus_per_case}", f"#SBATCH --output={sdir}/%A_%a.out"]
+    if opts.get("ranks"):  # the case's dem_node ranks (mpirun inside the task's allocation places them)
+        lines.append(f"#SBATCH --ntasks={opts['ranks']}")
     if a.partition:
         lines.append(f"#SBATCH --partition={a.partition}")
     if a.time:
@@ -31,6 +33,8 @@ def batch_script(sdir, listing, n, a, opts):
         args += f" --load {opts['load']}"
     if opts["duration"]:
         args += f" --duration {opts['duration']!r}"
+    if opts.get("ranks"):
+        args += f" --ranks {opts['ranks']}"
     if a.bag:
         args += " --bag"
     lines += ["set +u", f"source {ros_setup()}", "set -eu",

@@ -279,3 +279,22 @@ TEST(GhostDomains, AssembleRefusesAParticleOwnedTwiceAndAWrongMask) {
 }
 
 }  // namespace
+
+// Two edits with no step between (a coupled chamber's crushing batch and its bookkeeping can fall on one step): a cut
+// World's mesh holds histories only of the particles it owns, so the second put-together finds each history once.
+// Failed before MeshContact::set_ghosts dropped the ghosts' histories ("a contact history in two parts").
+TEST(GhostDomains, TwoEditsWithoutAStepBetweenKeepOneMeshHistoryPerParticle) {
+  const Reference ref = reference(kSteps, true);
+  std::vector<std::shared_ptr<dem::MeshContact>> made;
+  dem::LocalDomains d(plate_state(), params(), on_plate(&made), 3, kReach);
+  d.step(kSteps / 2);
+  const auto nothing = [](dem::World&) {};
+  ASSERT_NO_THROW(d.edit(nothing));
+  ASSERT_NO_THROW(d.edit(nothing));
+  d.step(kSteps - kSteps / 2);
+  std::vector<uint64_t> ids;
+  std::vector<double> x;
+  d.owned_state(ids, x);
+  ASSERT_EQ(ids, ref.ids);
+  EXPECT_LT(largest_position_difference(x, ref.x), 1e-12);
+}

@@ -121,4 +121,25 @@ for _ in $(seq 1 40); do pgrep -f "$out/cancelled/cases" >/dev/null || break; sl
 /usr/bin/python3 -c "import csv,sys; r=list(csv.DictReader(open(sys.argv[1]))); assert len(r) == 2, r" "$out/cancelled/sweep.csv" ||
   fail "sweep.csv is not readable after Ctrl-C"
 echo "Ctrl-C cancelled the slurm array (exit 130), sweep.csv readable"
+
+# A coupled case on MPI ranks (issue 25): --ranks 2 submits each case as 2 tasks; its `crusher run --ranks 2` starts
+# dem_node with mpirun inside the task's allocation.
+/usr/bin/python3 - "$src/launch_free_configs/quick_demo.yaml" "$out/coupled.yaml" <<'PY'
+import sys, yaml
+c = yaml.safe_load(open(sys.argv[1]))
+c["run"].update(duration_s=0.08, settle_s=0.04, tf_hz=20)
+c["run"].pop("coupled", None)
+c["dem"]["feed"].update(max_fed_kg=3.0)
+yaml.safe_dump(c, open(sys.argv[2], "w"))
+PY
+CRUSHER_NO_BUILD=1 CRUSHER_SWEEP_POLL_S=0.5 OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \
+  bash "$crusher" sweep "$out/coupled.yaml" --vary dem.feed.max_fed_kg=3.0 --load dem --ranks 2 --no-plots \
+  --backend slurm --partition crusher --time 10:00 --cpus-per-case 1 --out "$out/ranks_sweep" >"$out/ranks.log" 2>&1 ||
+  { cat "$out/ranks.log"; cat "$out"/ranks_sweep/slurm/*.out 2>/dev/null; fail "the coupled slurm sweep on 2 ranks failed"; }
+grep -q "^#SBATCH --ntasks=2" "$out"/ranks_sweep/slurm/array-*.sh || fail "--ranks 2 is not 2 tasks per case"
+grep -q "the charge on 2 MPI ranks" "$out"/ranks_sweep/slurm/*.out "$out"/ranks_sweep/cases/*/*.log 2>/dev/null ||
+  grep -rq "on 2 MPI ranks" "$out/ranks_sweep" || fail "the case's dem_node did not run on 2 ranks"
+/usr/bin/python3 -c "import csv,sys; r=list(csv.DictReader(open(sys.argv[1]))); assert len(r) == 1 and r[0]['status'] == 'ok', r" \
+  "$out/ranks_sweep/sweep.csv" || fail "the coupled case on 2 ranks has no result"
+echo "coupled case on 2 MPI ranks through slurm: ok"
 echo "slurm sweep check passed"
