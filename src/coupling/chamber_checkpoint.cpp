@@ -46,6 +46,24 @@ std::vector<double> fingerprint(const ChamberDem& d) {
 
 }  // namespace
 
+void ChamberDem::put_growing(core::BinaryWriter& w) const {
+  std::vector<uint64_t> id;
+  std::vector<double> rr;
+  for (const auto& g : growing_) id.push_back(g.id), rr.push_back(g.r_end), rr.push_back(g.rate);
+  w.put_vec(id);
+  w.put_vec(rr);
+}
+
+void ChamberDem::get_growing(core::BinaryReader& r) {
+  std::vector<uint64_t> id;
+  std::vector<double> rr;
+  r.get_vec(id);
+  r.get_vec(rr);
+  if (rr.size() != 2 * id.size()) r.fail("growing fragments are corrupt");
+  growing_.clear();
+  for (std::size_t k = 0; k < id.size(); ++k) growing_.push_back({id[k], rr[2 * k], rr[2 * k + 1]});
+}
+
 void ChamberDem::save_state(core::BinaryWriter& w) {
   if (!decomposed_) {
     write_state(w);
@@ -67,11 +85,7 @@ void ChamberDem::write_state(core::BinaryWriter& w) {
   w.put<int64_t>(crushed_count_);
   w.put<int64_t>(fragmented_count_);
   w.put_vec(screened_kg_);
-  std::vector<uint64_t> grow_id;
-  std::vector<double> grow_r;
-  for (const auto& g : growing_) grow_id.push_back(g.id), grow_r.push_back(g.r_end), grow_r.push_back(g.rate);
-  w.put_vec(grow_id);
-  w.put_vec(grow_r);
+  put_growing(w);
   std::vector<double> log;
   for (const auto& [t, m] : discharge_log_) log.push_back(t), log.push_back(m);
   w.put_vec(log);
@@ -113,13 +127,7 @@ void ChamberDem::load_state(core::BinaryReader& r) {
   fragmented_count_ = r.get<int64_t>();
   r.get_vec(screened_kg_);
   if (screened_kg_.size() != p_.sieves_m.size() + 1) r.fail("sieve classes differ from this configuration");
-  std::vector<uint64_t> grow_id;
-  std::vector<double> grow_r;
-  r.get_vec(grow_id);
-  r.get_vec(grow_r);
-  if (grow_r.size() != 2 * grow_id.size()) r.fail("growing fragments are corrupt");
-  growing_.clear();
-  for (std::size_t k = 0; k < grow_id.size(); ++k) growing_.push_back({grow_id[k], grow_r[2 * k], grow_r[2 * k + 1]});
+  get_growing(r);
   std::vector<double> log;
   r.get_vec(log);
   if (log.size() % 2) r.fail("discharge log is corrupt");

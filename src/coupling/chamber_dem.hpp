@@ -158,6 +158,8 @@ class ChamberDem {
   // Every process's crushed ids (mine) and liner planes to the root: ids sorted without repeats, planes in rank order.
   void gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& planes, std::vector<uint64_t>& ids);
   void write_state(core::BinaryWriter& w);
+  void put_growing(core::BinaryWriter& w) const;  // growing_ (checkpoints, share_root_state)
+  void get_growing(core::BinaryReader& r);
   void bookkeeping();
   void feed();
   void discharge();

@@ -112,11 +112,7 @@ void ChamberDem::share_root_state() {
   if (engine_->root()) {
     std::ostringstream os;
     core::BinaryWriter w(os);
-    std::vector<uint64_t> id;
-    std::vector<double> rr;
-    for (const Growing& g : growing_) id.push_back(g.id), rr.push_back(g.r_end), rr.push_back(g.rate);
-    w.put_vec(id);
-    w.put_vec(rr);
+    put_growing(w);
     w.put(next_bookkeeping_);
     w.put<char>(prefilled_);
     mine = os.str();
@@ -125,13 +121,7 @@ void ChamberDem::share_root_state() {
   if (engine_->root()) return;
   std::istringstream is(all);
   core::BinaryReader r(is, "the root's bookkeeping");
-  std::vector<uint64_t> id;
-  std::vector<double> rr;
-  r.get_vec(id);
-  r.get_vec(rr);
-  if (rr.size() != 2 * id.size()) r.fail("growing fragments do not match their ids");
-  growing_.clear();
-  for (std::size_t k = 0; k < id.size(); ++k) growing_.push_back({id[k], rr[2 * k], rr[2 * k + 1]});
+  get_growing(r);
   r.get(next_bookkeeping_);
   prefilled_ = r.get<char>() != 0;
 }
@@ -183,22 +173,10 @@ void ChamberDem::gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& 
 }
 
 void ChamberDem::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
-  std::vector<std::pair<uint64_t, std::pair<int, uint32_t>>> all;
-  for (int j = 0; j < engine_->parts(); ++j) {
-    const auto& P = engine_->part(j).particles();
-    const std::vector<char>* owned = engine_->owned(j);
-    for (std::size_t i = 0; i < P.size(); ++i)
-      if (!owned || (*owned)[i]) all.push_back({P.id[i], {j, static_cast<uint32_t>(i)}});
-  }
-  std::sort(all.begin(), all.end());
-  ids.clear();
-  state.clear();
-  std::vector<double> one;
-  for (const auto& [id, at] : all) {
-    ids.push_back(id);
-    dem::pack_ghosts(engine_->part(at.first).particles(), {at.second}, one);
-    state.insert(state.end(), one.begin(), one.end());
-  }
+  std::vector<const dem::World*> parts;
+  std::vector<const std::vector<char>*> owned;
+  for (int j = 0; j < engine_->parts(); ++j) parts.push_back(&engine_->part(j)), owned.push_back(engine_->owned(j));
+  dem::owned_state(parts, owned, ids, state);
 }
 
 }  // namespace coupling

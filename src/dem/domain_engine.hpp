@@ -42,8 +42,19 @@ class DomainEngine {
   virtual int recuts() const = 0;  // how often the charge was cut anew
 };
 
+// The reductions of one process: identities.
+class OneProcessEngine : public DomainEngine {
+ public:
+  bool root() const override { return true; }
+  void sum(std::vector<double>&) override {}
+  double min(double x) override { return x; }
+  double max(double x) override { return x; }
+  std::string gather(const std::string& mine) override { return mine; }
+  std::string broadcast(const std::string& on_root) override { return on_root; }
+};
+
 // The whole charge in one World (not owned): step() is World::step(1), edit(fn) is fn(world).
-class WholeEngine : public DomainEngine {
+class WholeEngine : public OneProcessEngine {
  public:
   explicit WholeEngine(World& w) : w_(w) {}
   int parts() const override { return 1; }
@@ -51,12 +62,6 @@ class WholeEngine : public DomainEngine {
   const std::vector<char>* owned(int) const override { return nullptr; }
   void step() override { w_.step(1); }
   void edit(const std::function<void(World&)>& fn) override { fn(w_); }
-  bool root() const override { return true; }
-  void sum(std::vector<double>&) override {}
-  double min(double x) override { return x; }
-  double max(double x) override { return x; }
-  std::string gather(const std::string& mine) override { return mine; }
-  std::string broadcast(const std::string& on_root) override { return on_root; }
   int recuts() const override { return 0; }
 
  private:
@@ -64,7 +69,7 @@ class WholeEngine : public DomainEngine {
 };
 
 // Every rank of a decomposition in this process (LocalDomains): what a run on that many MPI ranks computes, bit for bit.
-class LocalEngine : public DomainEngine {
+class LocalEngine : public OneProcessEngine {
  public:
   LocalEngine(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
               int ranks, double reach)
@@ -74,12 +79,6 @@ class LocalEngine : public DomainEngine {
   const std::vector<char>* owned(int k) const override { return &d_.plan(k).owned; }
   void step() override { d_.step(1); }
   void edit(const std::function<void(World&)>& fn) override { d_.edit(fn); }
-  bool root() const override { return true; }
-  void sum(std::vector<double>&) override {}
-  double min(double x) override { return x; }
-  double max(double x) override { return x; }
-  std::string gather(const std::string& mine) override { return mine; }
-  std::string broadcast(const std::string& on_root) override { return on_root; }
   int recuts() const override { return d_.recuts(); }
   const LocalDomains& domains() const { return d_; }
 

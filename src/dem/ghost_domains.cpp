@@ -241,12 +241,13 @@ void LocalDomains::step(long n) {
   }
 }
 
-void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
-  std::vector<std::pair<uint64_t, std::pair<int, uint32_t>>> all;
-  for (int r = 0; r < ranks(); ++r) {
-    const Particles& p = domains_[r].world->particles();
+void owned_state(const std::vector<const World*>& parts, const std::vector<const std::vector<char>*>& owned,
+                 std::vector<uint64_t>& ids, std::vector<double>& state) {
+  std::vector<std::pair<uint64_t, std::pair<std::size_t, uint32_t>>> all;
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    const Particles& p = parts[r]->particles();
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (domains_[r].plan.owned[i]) all.push_back({p.id[i], {r, static_cast<uint32_t>(i)}});
+      if (!owned[r] || (*owned[r])[i]) all.push_back({p.id[i], {r, static_cast<uint32_t>(i)}});
   }
   std::sort(all.begin(), all.end());
   ids.clear();
@@ -254,9 +255,16 @@ void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& 
   std::vector<double> one;
   for (const auto& [id, at] : all) {
     ids.push_back(id);
-    pack_ghosts(domains_[at.first].world->particles(), {at.second}, one);
+    pack_ghosts(parts[at.first]->particles(), {at.second}, one);
     state.insert(state.end(), one.begin(), one.end());
   }
+}
+
+void LocalDomains::owned_state(std::vector<uint64_t>& ids, std::vector<double>& state) const {
+  std::vector<const World*> parts;
+  std::vector<const std::vector<char>*> owned;
+  for (const Domain& d : domains_) parts.push_back(d.world.get()), owned.push_back(&d.plan.owned);
+  dem::owned_state(parts, owned, ids, state);
 }
 
 std::vector<BondBreak> LocalDomains::breaks() const {

@@ -120,6 +120,11 @@ class LocalDomains {
   std::vector<Domain> domains_;
 };
 
+// The owned particles of some Worlds (owned[k]: per particle of parts[k], 1 owned; null: all) by id, ascending: ids
+// and x, y, z, vx, vy, vz, wx, wy, wz (kGhostDoubles each).
+void owned_state(const std::vector<const World*>& parts, const std::vector<const std::vector<char>*>& owned,
+                 std::vector<uint64_t>& ids, std::vector<double>& state);
+
 // Breaks in w's log counted by this rank: those whose first particle it owns.
 std::vector<BondBreak> owned_breaks(const World& w, const GhostPlan& plan);
 

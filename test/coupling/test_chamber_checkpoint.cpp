@@ -141,13 +141,8 @@ TEST(ChamberCheckpoint, RestoredRunWithCrushingIntoFragmentsContinuesBitForBit) 
 
 // Fragments growing to the rock's density across the checkpoint: their growth is part of the state.
 TEST(ChamberCheckpoint, RestoredRunWithGrowingFragmentsContinuesBitForBit) {
-  auto p = small_filled_chamber();
-  p.crushing.enabled = true;
-  p.crushing.fragments = true;
-  p.crushing.fragment_growth_s = 5e-3;
-  p.crushing.tensile_strength = 0.5e6;
-  p.crushing.min_fragment_m = 4e-3;
-  p.crushing.batch_s = 2e-4;
+  auto p = test_chamber::busy_small_chamber();  // small_filled_chamber() crushing into growing fragments
+  p.threads = 2;
   expect_restored_run_continues_bit_for_bit(p, true);
 }
 

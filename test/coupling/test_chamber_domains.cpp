@@ -11,6 +11,7 @@
 
 #include "coupling/chamber_dem.hpp"
 #include "dem/domain_engine.hpp"
+#include "chamber_outcome.hpp"
 #include "small_chamber.hpp"
 
 namespace {
@@ -19,16 +20,7 @@ constexpr double kReach = 0.02;  // m: above 2 r_max (8.8 mm) and any bond; marg
 
 using test_chamber::busy_small_chamber;
 
-struct Outcome {
-  std::vector<uint64_t> ids;
-  std::vector<double> state;   // x, v, w by id
-  std::vector<double> wrench;  // mantle and concave force and torque per coupling step
-  std::vector<double> map;
-  std::vector<std::pair<uint64_t, uint64_t>> broken;  // the bonds broken, by particle ids, sorted
-  coupling::ProductState product;
-  long broken_bonds = 0, growing = 0;
-  int recuts = 0;
-};
+using test_chamber::Outcome;
 
 void advance(coupling::ChamberDem& d, const coupling::ChamberParams& p, int from, int to, Outcome* r) {
   test_chamber::gyrate_steps(d, p, from, to, &r->wrench);
@@ -36,13 +28,7 @@ void advance(coupling::ChamberDem& d, const coupling::ChamberParams& p, int from
 
 void finish(coupling::ChamberDem& d, Outcome* r) {
   d.owned_state(r->ids, r->state);
-  r->map = d.force_map();
-  for (const auto& b : d.take_breaks()) r->broken.push_back({std::min(b.id_i, b.id_j), std::max(b.id_i, b.id_j)});
-  std::sort(r->broken.begin(), r->broken.end());
-  r->product = d.product();
-  r->broken_bonds = d.broken_bonds();
-  r->growing = static_cast<long>(d.growing_fragments());
-  r->recuts = d.engine().recuts();
+  test_chamber::finish_outcome(d, r);
 }
 
 dem::EngineFactory local_ranks(int ranks) {
@@ -68,19 +54,6 @@ double largest_difference(const std::vector<double>& a, const std::vector<double
   return d;
 }
 
-void expect_same_run_counts(const Outcome& a, const Outcome& b) {
-  EXPECT_EQ(a.ids, b.ids);
-  EXPECT_EQ(a.broken, b.broken);
-  EXPECT_EQ(a.broken_bonds, b.broken_bonds);
-  EXPECT_EQ(a.product.fed_kg, b.product.fed_kg);
-  EXPECT_EQ(a.product.metaparticles_crushed, b.product.metaparticles_crushed);
-  EXPECT_EQ(a.product.metaparticles_fragmented, b.product.metaparticles_fragmented);
-  EXPECT_EQ(a.product.crushed_kg, b.product.crushed_kg);
-  EXPECT_EQ(a.product.discharged_kg, b.product.discharged_kg);
-  EXPECT_EQ(a.product.lost_kg, b.product.lost_kg);
-  EXPECT_EQ(a.product.passing_pct, b.product.passing_pct);
-}
-
 // 8 ms (1376 DEM steps of 5.8 us): feed at each bookkeeping, 38 bonds broken, 12 metaparticles crushed into (42)
 // growing fragments, rock discharged, 17 re-cuts.
 // One rank: a re-cut World builds its neighbour list afresh, where the whole World may keep its own (compacted after
@@ -96,7 +69,7 @@ constexpr int kSteps = 8;
 
 TEST(ChamberDomains, OneRankIsTheWholeChargeBitForBit) {
   const Outcome whole = run(0, kSteps), one = run(1, kSteps);
-  expect_same_run_counts(whole, one);
+  test_chamber::expect_same_counts(whole, one);
   EXPECT_EQ(whole.state, one.state);
   EXPECT_EQ(whole.wrench, one.wrench);
   // The force map is integrated per coupling step when decomposed (per DEM step in one World): equal to round-off.
@@ -109,8 +82,8 @@ TEST(ChamberDomains, OneRankIsTheWholeChargeBitForBit) {
   EXPECT_GT(whole.product.metaparticles_fragmented, 0);
   EXPECT_GT(whole.product.discharged_kg, 0.0);
   EXPECT_GT(one.recuts, kSteps);
-  std::printf("whole charge: %zu particles, %zu bonds broken, %ld crushed to fragments, %ld growing; 1 rank: %d re-cuts\n",
-              whole.ids.size(), whole.broken.size(), whole.product.metaparticles_fragmented, whole.growing, one.recuts);
+  std::printf("whole charge: %zu particles, %zu bonds broken, %ld crushed to fragments; 1 rank: %d re-cuts\n",
+              whole.ids.size(), whole.broken.size(), whole.product.metaparticles_fragmented, one.recuts);
 }
 
 TEST(ChamberDomains, TwoAndThreeRanksGiveTheWholeChargesRunToRoundOff) {
@@ -120,7 +93,7 @@ TEST(ChamberDomains, TwoAndThreeRanksGiveTheWholeChargesRunToRoundOff) {
   for (int ranks : {2, 3}) {
     SCOPED_TRACE(std::to_string(ranks) + " ranks");
     const Outcome part = run(ranks, kSteps);
-    expect_same_run_counts(whole, part);
+    test_chamber::expect_same_counts(whole, part);
     // Pair forces are summed in each rank's own neighbour order: positions, velocities and wrenches agree to round-off.
     double dx = 0, dv = 0;  // positions (m); velocities and spins (m/s, rad/s)
     for (std::size_t q = 0; q < whole.state.size() && q < part.state.size(); ++q)
@@ -161,7 +134,7 @@ TEST(ChamberDomains, DecomposedRunResumedFromItsCheckpointContinuesBitForBit) {
   advance(b, p, 6, 12, &rb);
   finish(a, &ra);
   finish(b, &rb);
-  expect_same_run_counts(ra, rb);
+  test_chamber::expect_same_counts(ra, rb);
   EXPECT_EQ(ra.state, rb.state);
   EXPECT_EQ(ra.wrench, rb.wrench);
   EXPECT_EQ(ra.map, rb.map);
