@@ -18,8 +18,10 @@
 //                     --from-run DIR: instead of the pre-fill, the newest DEM checkpoint of a coupled run of that
 //                     config (`crusher run CONFIG --load dem --out DIR`), the mantle gyrating on from its pose there
 //                     (its nutation unless --nutation-deg is given), the concave held where it was.
+//                     --parts N: then the same steps from the same state with the charge cut into N parts in this
+//                     process (crusher_parts: the decomposition's added work and edits against the whole World).
 // Usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] [--threads T]
-//                  [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D]
+//                  [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D] [--parts N]
 // (all: the three peer cases; --warmup overrides the peers' warm-up step counts, for profiling only)
 #include <omp.h>
 
@@ -30,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -39,6 +42,7 @@
 #include "coupling/chamber_dem.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "dem/bench_cases.hpp"
+#include "dem/domain_engine.hpp"
 #include "dem/cost_model.hpp"
 #include "dem/sector_decomposition.hpp"
 #include "dem/world.hpp"
@@ -192,8 +196,32 @@ void print_cost_model(const char* title, dem::CostModelInputs in) {
   }
 }
 
+// --parts N: the same coupling steps from the same state with the charge cut into N azimuthal parts in this process
+// (dem::LocalEngine, what N MPI ranks compute, one after the other here): the decomposition's added work (pairs and
+// bonds across a boundary computed twice) and its edits (the whole charge put together and cut anew on the root at
+// each bookkeeping and crushing batch), against the whole World.
+void crusher_parts(const coupling::ChamberParams& cp, std::stringstream& start, int parts, long steps, long k_timed,
+                   long k_start, const Gyration& g, double dtc, double plain_wall, const std::array<double, 6>& plain_ph) {
+  coupling::ChamberDem d(cp);
+  core::BinaryReader r(start, "the timed steps' start");
+  d.load_state(r);
+  const double reach = 3.0 * d.largest_sphere_radius();
+  d.decompose([parts, reach](const std::string& ck, const dem::WorldParams& wp, const std::function<void(dem::World&)>& s) {
+    return std::make_unique<dem::LocalEngine>(ck, wp, s, parts, reach);
+  });
+  const auto ph0 = d.phase_seconds();
+  const int r0 = d.engine().recuts();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (long k = k_timed; k < k_timed + steps; ++k) d.advance(g.mantle(g.t0 + (k - k_start) * dtc), g.concave(), dtc);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto ph = minus(d.phase_seconds(), ph0);
+  std::printf("crusher_parts %d wall_s %.3f whole_wall_s %.3f ratio %.3f crushing_s %.2f (whole %.2f) bookkeeping_s %.2f "
+              "(whole %.2f) recuts %d reach_mm %.1f\n", parts, wall, plain_wall, wall / plain_wall, ph[3], plain_ph[3],
+              ph[4], plain_ph[4], d.engine().recuts() - r0, 1e3 * reach);
+}
+
 void crusher(const std::string& config, const std::string& from_run, long steps, int threads, long warmup,
-             double nutation_deg, bool nutation_given) {
+             double nutation_deg, bool nutation_given, int parts) {
   if (config.empty()) throw std::invalid_argument("--case crusher needs --config FILE (a coupled run's config)");
   auto root = core::ConfigNode::load_file(config);
   const auto coupling_opt = core::load_coupling_options(root.child_or_empty("coupling"));
@@ -237,6 +265,12 @@ void crusher(const std::string& config, const std::string& from_run, long steps,
   const long s0 = w.step_count(), r0 = w.n_rebuilds(), b0 = dem.broken_bonds();
   const double n0 = static_cast<double>(w.particles().size());
   const auto p0 = dem.product();
+  std::stringstream start;  // --parts: the decomposed chamber takes the same steps from here
+  if (parts > 0) {
+    core::BinaryWriter bw(start);
+    dem.save_state(bw);
+  }
+  const long k_timed = k;
   const double c0 = cpu_seconds();
   t0 = std::chrono::steady_clock::now();
   advance(steps);
@@ -319,6 +353,7 @@ void crusher(const std::string& config, const std::string& from_run, long steps,
   paper.serial_s_per_step = in.serial_s_per_step * paper.particles / n;
   paper.steps_per_coupling = 1e-3 / paper.dt_s;
   print_cost_model("paper_table4", paper);
+  if (parts > 0) crusher_parts(cp, start, parts, steps, k_timed, k_start, g, dtc, wall, cph);
 }
 
 }  // namespace
@@ -330,6 +365,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   long warmup = -1;
   double nutation_deg = 0.73;
+  int parts = 0;
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -351,16 +387,18 @@ int main(int argc, char** argv) {
         config = next();
       } else if (a == "--from-run") {
         from_run = next();
+      } else if (a == "--parts") {
+        parts = static_cast<int>(args.integer(1, 256));
       } else if (a == "--nutation-deg") {
         nutation_deg = args.number(0.0, 4.999);
         nutation_given = true;
       } else if (a == "-h" || a == "--help") {
         std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] "
-                     "[--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D]\n";
+                     "[--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D] [--parts N]\n";
         return 0;
       } else {
         throw std::invalid_argument("unknown option '" + a +
-                                    "' (accepted: --case, --steps, --threads, --warmup, --config, --from-run, --nutation-deg)");
+                                    "' (accepted: --case, --steps, --threads, --warmup, --config, --from-run, --nutation-deg, --parts)");
       }
     }
     if (threads == 0) threads = omp_get_max_threads();
@@ -369,7 +407,8 @@ int main(int argc, char** argv) {
     if (which == "granular_pressed" || all) granular_pressed(steps > 0 ? steps : 5000, threads, warmup);
     if (which == "bonded_hex" || all) bonded_hex(steps > 0 ? steps : 2000, threads, warmup);
     if (which == "crusher")
-      crusher(config, from_run, steps > 0 ? steps : 2, threads, warmup >= 0 ? warmup : 1, nutation_deg, nutation_given);
+      crusher(config, from_run, steps > 0 ? steps : 2, threads, warmup >= 0 ? warmup : 1, nutation_deg, nutation_given,
+              parts);
   } catch (const std::exception& e) {
     std::cerr << "dem_bench: " << e.what() << "\n";
     return 2;
