@@ -4,23 +4,36 @@
 // x, y > 0: the axis runs along their corner, so the wedges split the block along vertical planes through it), and
 // timed over --steps steps with the ghost exchange. Run it under mpirun; with one rank it times the same World
 // without an exchange, so `-np 1 --threads 2` and `-np 2 --threads 1` compare processes with threads on two cores.
-// Usage: mpirun -np P dem_mpi_bench [--case granular_pressed|bonded_hex] [--steps S] [--warmup W] [--threads T]
+// --case crusher --config FILE: the coupled run's DEM chamber (coupling::ChamberDem) of a run config, pre-filled and
+// gyrating as dem_bench's crusher case, on P ranks (ChamberDem::decompose over parallel::MpiEngine, as dem_node
+// --ranks runs it; one rank: the whole World); --steps coupling steps (default 2) after --warmup (default 1, the
+// pre-fill's); rank 0 prints the wall time per simulated second.
+// Usage: mpirun -np P dem_mpi_bench [--case granular_pressed|bonded_hex|crusher] [--config FILE] [--steps S]
+//                                   [--warmup W] [--threads T]
 // Prints one line per rank on stderr (owned, ghosts, wall, exchange and re-cut seconds) and rank 0's case line on
 // stdout: particle-steps per second of the whole charge, the exchange's share of the slowest rank's wall time.
 #include <mpi.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/binary_io.hpp"
 #include "core/cli_args.hpp"
 #include "dem/bench_cases.hpp"
 #include "dem/world.hpp"
+#include "core/config.hpp"
+#include "core/run_config.hpp"
+#include "coupling/chamber_dem.hpp"
+#include "mbd/mechanism_params.hpp"
 #include "parallel/mpi_domain.hpp"
+#include "parallel/mpi_engine.hpp"
+#include "tools/crusher_gyration.hpp"
 
 namespace {
 
@@ -37,15 +50,60 @@ Case case_named(const std::string& name) {
     return {1e-6, 0.3e-3, 3.6e-3, 1000, dem::bench::build_granular_pressed, dem::bench::granular_pressed_walls};
   if (name == "bonded_hex")
     return {1e-7, -1, 4.2e-3, 200, dem::bench::build_bonded_hex, dem::bench::bonded_hex_walls};
-  throw std::invalid_argument("--case " + name + ": accepted granular_pressed, bonded_hex");
+  throw std::invalid_argument("--case " + name + ": accepted granular_pressed, bonded_hex, crusher");
+}
+
+int crusher(const std::string& config, long steps, long warmup, int threads) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (config.empty()) throw std::invalid_argument("--case crusher needs --config FILE (a coupled run's config)");
+  auto root = core::ConfigNode::load_file(config);
+  const double dtc = core::load_coupling_options(root.child_or_empty("coupling")).dt_s;
+  const auto mech = mbd::load_mechanism_params(root.child("mbd"));
+  const auto flow = root.child_or_empty("flow");
+  auto cp = coupling::load_chamber_params(root.child("dem"), mech.chamber, mech.floating_cone.com_z_m,
+                                          mech.fixed_cone.com_z_m, &flow);
+  cp.threads = threads;
+  tools::Gyration g;
+  g.theta = 0.73 * M_PI / 180;  // dem_bench's default
+  g.omega = mech.drive_speed_rad_s;
+  g.mantle_com_z = mech.floating_cone.com_z_m;
+  g.concave_com_z = mech.fixed_cone.com_z_m;
+  coupling::ChamberDem dem(cp);
+  if (size > 1) dem.decompose(parallel::mpi_engine(MPI_COMM_WORLD, 3.0 * dem.largest_sphere_radius()));
+  long k = 0;
+  for (; k < std::max(1L, warmup); ++k) dem.advance(g.mantle(k * dtc), g.concave(), dtc);  // the first pre-fills
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto ph0 = dem.phase_seconds();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const long e = k + steps; k < e; ++k) dem.advance(g.mantle(k * dtc), g.concave(), dtc);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto ph = dem.phase_seconds();
+  std::vector<uint64_t> ids;
+  std::vector<double> state;
+  dem.owned_state(ids, state);
+  unsigned long long mine = ids.size(), all = 0;
+  MPI_Reduce(&mine, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  double slowest = 0;
+  MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  std::fprintf(stderr, "rank %d of %d: owned %llu wall_s %.3f crushing_s %.2f bookkeeping_s %.2f\n", rank, size, mine,
+               wall, ph[3] - ph0[3], ph[4] - ph0[4]);
+  if (rank == 0) {
+    std::printf("case crusher ranks %d threads %d particles %llu coupling_steps %ld wall_s %.3f wall_h_per_sim_s %.2f "
+                "recuts %d\n", size, threads, all, steps, slowest, slowest / (steps * dtc) / 3600.0,
+                size > 1 ? dem.engine().recuts() : 0);
+    std::fflush(stdout);
+  }
+  return 0;
 }
 
 int run(int argc, char** argv) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
-  std::string name = "granular_pressed";
-  long steps = 2000, warmup = -1;
+  std::string name = "granular_pressed", config;
+  long steps = -1, warmup = -1;
   int threads = 1;
   for (core::CliArgs a(argc, argv); a.next();) {
     const std::string f = a.flag();
@@ -53,8 +111,11 @@ int run(int argc, char** argv) {
     else if (f == "--steps") steps = a.integer(1, 100000000);
     else if (f == "--warmup") warmup = a.integer(0, 100000000);
     else if (f == "--threads") threads = static_cast<int>(a.integer(1, 1024));
-    else throw std::invalid_argument("unknown option " + f + " (accepted: --case, --steps, --warmup, --threads)");
+    else if (f == "--config") config = a.value();
+    else throw std::invalid_argument("unknown option " + f + " (accepted: --case, --config, --steps, --warmup, --threads)");
   }
+  if (name == "crusher") return crusher(config, steps > 0 ? steps : 2, warmup >= 0 ? warmup : 1, threads);
+  if (steps < 0) steps = 2000;
   const Case c = case_named(name);
   if (warmup < 0) warmup = c.warmup;
   dem::WorldParams wp = dem::bench::peer_params(c.dt, threads);
