@@ -729,10 +729,11 @@ std::vector<dem::BondBreak> ChamberDem::take_breaks() {
   return out;
 }
 
-std::vector<int> ChamberDem::fragment_labels() const {
-  if (decomposed_) return snapshot_labels_;
-  const auto& P = world_->particles();
-  const auto frags = dem::Fragments::from_bonds(P, world_->bonds());
+std::vector<int> ChamberDem::fragment_labels() const { return decomposed_ ? snapshot_labels_ : labels_of(*world_); }
+
+std::vector<int> ChamberDem::labels_of(const dem::World& w) {
+  const auto& P = w.particles();
+  const auto frags = dem::Fragments::from_bonds(P, w.bonds());
   std::vector<int> out(P.size());
   for (std::size_t i = 0; i < P.size(); ++i) out[i] = frags.fragment_of(P.id[i]);
   return out;

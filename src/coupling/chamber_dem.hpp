@@ -155,6 +155,7 @@ class ChamberDem {
   void prune_growing();                  // on the whole charge: fragments gone or grown leave growing_
   void share_root_state();               // growing_, next bookkeeping and prefill from the root to every process
   void take_snapshot();                  // the whole charge's particles and fragment labels (decomposed, root)
+  static std::vector<int> labels_of(const dem::World& w);  // fragment label of each particle (intact bonds)
   // Every process's crushed ids (mine) and liner planes to the root: ids sorted without repeats, planes in rank order.
   void gather_crushed(const std::vector<uint64_t>& mine, LinerPlanes& planes, std::vector<uint64_t>& ids);
   void write_state(core::BinaryWriter& w);

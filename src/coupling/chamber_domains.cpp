@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "coupling/chamber_dem.hpp"
-#include "dem/fragments.hpp"
 
 namespace coupling {
 
@@ -128,9 +127,7 @@ void ChamberDem::share_root_state() {
 
 void ChamberDem::take_snapshot() {
   snapshot_ = world_->particles();
-  const auto frags = dem::Fragments::from_bonds(snapshot_, world_->bonds());
-  snapshot_labels_.resize(snapshot_.size());
-  for (std::size_t i = 0; i < snapshot_.size(); ++i) snapshot_labels_[i] = frags.fragment_of(snapshot_.id[i]);
+  snapshot_labels_ = labels_of(*world_);
 }
 
 // Every process's crushed ids and liner planes to the root: ids sorted without repeats, planes in rank order (each

@@ -23,8 +23,21 @@ int size_of(MPI_Comm c) {
   return n;
 }
 
+template <class T>
+std::vector<char> bytes_of(const std::vector<T>& v) {
+  const char* b = reinterpret_cast<const char*>(v.data());
+  return std::vector<char>(b, b + v.size() * sizeof(T));
+}
+template <class T>
+std::vector<T> from_bytes(const std::vector<char>& b) {
+  std::vector<T> v(b.size() / sizeof(T));
+  std::copy(b.begin(), b.begin() + static_cast<long>(v.size() * sizeof(T)), reinterpret_cast<char*>(v.data()));
+  return v;
+}
+}  // namespace
+
 // Rank 0 gets every rank's bytes, concatenated in rank order (and, when asked, each rank's byte count).
-std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine, std::vector<int>* counts_out = nullptr) {
+std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine, std::vector<int>* counts_out) {
   const int size = size_of(comm), rank = rank_of(comm);
   int n = static_cast<int>(mine.size());
   std::vector<int> counts(size), displs(size);
@@ -38,19 +51,6 @@ std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine, std
   if (counts_out) *counts_out = counts;
   return all;
 }
-
-template <class T>
-std::vector<char> bytes_of(const std::vector<T>& v) {
-  const char* b = reinterpret_cast<const char*>(v.data());
-  return std::vector<char>(b, b + v.size() * sizeof(T));
-}
-template <class T>
-std::vector<T> from_bytes(const std::vector<char>& b) {
-  std::vector<T> v(b.size() / sizeof(T));
-  std::copy(b.begin(), b.begin() + static_cast<long>(v.size() * sizeof(T)), reinterpret_cast<char*>(v.data()));
-  return v;
-}
-}  // namespace
 
 dem::MeshWrench sum_over_ranks(MPI_Comm comm, const dem::MeshWrench& mine) {
   double in[6] = {mine.force.x(), mine.force.y(), mine.force.z(), mine.torque.x(), mine.torque.y(), mine.torque.z()};

@@ -26,6 +26,10 @@ namespace parallel {
 // skipped: dem/mesh_contact.hpp), about the same point on every rank: the whole charge's wrench, on every rank.
 dem::MeshWrench sum_over_ranks(MPI_Comm comm, const dem::MeshWrench& mine);
 
+// Collective: on rank 0 every rank's bytes, concatenated in rank order (empty elsewhere), and, when asked, each rank's
+// byte count.
+std::vector<char> gather_bytes(MPI_Comm comm, const std::vector<char>& mine, std::vector<int>* counts_out = nullptr);
+
 // Rank 0's bytes on every rank of comm.
 std::string broadcast_bytes(MPI_Comm comm, const std::string& on_root);
 

@@ -34,20 +34,8 @@ double MpiEngine::max(double x) {
 }
 
 std::string MpiEngine::gather(const std::string& mine) {
-  int size = 1, rank = 0;
-  MPI_Comm_size(comm_, &size);
-  MPI_Comm_rank(comm_, &rank);
-  int n = static_cast<int>(mine.size());
-  std::vector<int> counts(size), displs(size);
-  MPI_Gather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm_);
-  std::string all;
-  if (rank == 0) {
-    for (int r = 1; r < size; ++r) displs[r] = displs[r - 1] + counts[r - 1];
-    all.resize(static_cast<std::size_t>(displs[size - 1] + counts[size - 1]));
-  }
-  MPI_Gatherv(mine.data(), n, MPI_CHAR, rank == 0 ? &all[0] : nullptr, counts.data(), displs.data(), MPI_CHAR, 0,
-              comm_);
-  return all;
+  const std::vector<char> all = gather_bytes(comm_, std::vector<char>(mine.begin(), mine.end()));
+  return std::string(all.begin(), all.end());
 }
 
 dem::EngineFactory mpi_engine(MPI_Comm comm, double reach) {
