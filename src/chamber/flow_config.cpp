@@ -30,6 +30,9 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
                 "recovered fraction of each compression")
         .number("pressure.max_compression", "", 1, 0.05, 0.8, [](M& m) -> double& { return m.max_compression; },
                 "compaction limit, at most the solid's 1 - loose_solid_fraction")
+        .number("scatter.lump_std", "", 1, 0, kMaxLumpStd, [](M& m) -> double& { return m.lump_std; },
+                "relative std of one lump's share of a bed's pressure, from replicate piston-die tests (0: the "
+                "pressings do not scatter)")
         .number("selection.s_c", "", 1, 1e-3, 10, [](M& m) -> double& { return m.breakage.s_c; },
                 "compression at which a class of size x_ref is 63 % selected")
         .number("selection.exponent", "", 1, 0.1, 10, [](M& m) -> double& { return m.breakage.m; },
@@ -87,6 +90,8 @@ const core::Schema<FlowParams>& flow_schema() {
                      if (p.feed_passing[i] < p.feed_passing[i - 1]) n.fail(key, "must not fall from sieve to sieve");
                  })
         .boolean("prefill", [](P& p) -> bool& { return p.prefill; }, "start with the chamber full of loose feed")
+        .integer("seed", 0, 2147483647, [](P& p) -> int& { return p.seed; },
+                 "seed of the pressings' scatter (material scatter.lump_std > 0)")
         .boolean("compaction_memory", [](P& p) -> bool& { return p.compaction_memory; },
                  "the rock keeps its compaction between pressings (jams the GYP1200's feed opening)")
         // Chamber candidates of the diagnosis (flow_model.hpp FlowEffects), off by default.

@@ -10,6 +10,7 @@
 //     sieves_mm: [1, 2, ..., 63]          # ascending
 //     feed_passing_pct: [...]             # cumulative feed passing each sieve (default: -50 mm, (x/50)^2.5)
 //     prefill: true                       # start with the chamber full of loose feed
+//     seed: 1                             # of the pressings' scatter (material scatter.lump_std > 0)
 //     effects:                            # chamber candidates of the diagnosis, off by default
 //       feed_limited: {enabled: false, max_feed_tph: 60}
 //       worn_liners: {enabled: false, setting_increase_mm: 10, worn_height_fraction: 0.5}
@@ -18,6 +19,7 @@
 //     solid_density_kg_m3: 2600
 //     loose_solid_fraction: 0.55
 //     pressure: {modulus_MPa: 50, exponent: 2.0, rebound: 0.15, max_compression: 0.40}
+//     scatter: {lump_std: 0}              # one lump's relative std (bed_scatter.hpp; piston_die --replicates)
 //     selection: {s_c: 0.25, exponent: 2.0, size_exponent: 0.5, x_ref_mm: 10}
 //     progeny: {phi: 0.4, gamma: 0.8, beta: 3.0}
 #include <string>

@@ -48,7 +48,7 @@ std::vector<double> default_feed_passing(const std::vector<double>& sieves) {
 FlowParams::FlowParams() : feed_passing(default_feed_passing(sieves_m)) {}
 
 FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const core::Profile& concave)
-    : p_(p), mantle_(mantle), breakage_(p.sieves_m, p.material.breakage) {
+    : p_(p), mantle_(mantle), breakage_(p.sieves_m, p.material.breakage), draws_(static_cast<std::uint64_t>(p.seed)) {
   const auto& m = p.material;
   require(p.bands >= 2 && p.sectors >= 1, "bands must be >= 2 and sectors >= 1");
   require(m.solid_density > 0 && m.loose_fraction > 0 && m.loose_fraction < 1,
@@ -57,6 +57,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   require(m.rebound > 0 && m.rebound <= 1, "rebound must be in (0, 1]");
   require(m.max_compression > 0 && m.max_compression <= solid_compaction_limit(m.loose_fraction) + 1e-12,
           "max_compression must be in (0, 1 - loose_solid_fraction]: beyond it the rock would be denser than solid");
+  require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
+                                                           core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
   for (std::size_t i = 0; i < p.feed_passing.size(); ++i)
     require(p.feed_passing[i] >= 0 && p.feed_passing[i] <= 1 && (i == 0 || p.feed_passing[i] >= p.feed_passing[i - 1]),
@@ -85,6 +87,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
     feed_share_.push_back((j == K ? 1.0 : p.feed_passing[j]) - (j == 0 ? 0.0 : p.feed_passing[j - 1]));
   const std::size_t n = static_cast<std::size_t>(p.bands) * p.sectors;
   mass_.assign(n * classes(), 0.0);
+  for (std::size_t j = 0; j < classes(); ++j) lump_kg_.push_back(lump_mass(breakage_.size(j), m.solid_density));
+  scatter_.assign(n, 1.0);
   speed_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
   impulse_.assign(n, 0.0);
@@ -303,6 +307,11 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       }
     }
     p *= squeeze;
+    if (mat.lump_std > 0) {  // a new pressing meets its rock as it lies now: its own strength
+      if (p_before <= 0 && p > 0)
+        scatter_[k] = draws_.factor(bed_pressure_std(mat.lump_std, effective_lumps(&mass_[k * C], lump_kg_)));
+      p *= scatter_[k];
+    }
     if (D > 0) {
       total_[k] = sum_classes(k);
       if (D >= kCountedCompression) count_[k] += 1, ++events_;
@@ -377,6 +386,7 @@ std::vector<double> FlowModel::fingerprint() const {
   f.insert(f.end(), {m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression, b.s_c,
                      b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta, double(p_.prefill),
                      double(p_.choke_feed), double(p_.compaction_memory)});
+  if (m.lump_std > 0) f.insert(f.end(), {m.lump_std, double(p_.seed)});  // (without: as before the scatter)
   return f;
 }
 
@@ -404,6 +414,11 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put<int64_t>(events_);
   w.put<char>(prefilled_);
   w.put_vec(taken_);
+  if (p_.material.lump_std > 0) {
+    w.tag("SCAT");
+    w.put_vec(scatter_);
+    w.put_string(draws_.state());
+  }
 }
 
 void FlowModel::load_state(core::BinaryReader& r) {
@@ -445,6 +460,13 @@ void FlowModel::load_state(core::BinaryReader& r) {
   prefilled_ = r.get<char>() != 0;
   r.get_vec(taken_);
   if (!taken_.empty() && taken_.size() != classes()) r.fail("flow model state is corrupt");
+  if (p_.material.lump_std > 0) {
+    r.expect("SCAT");
+    std::vector<double> scatter;
+    r.get_vec(scatter);
+    if (scatter.size() != n || !draws_.set_state(r.get_string())) r.fail("flow model state is corrupt");
+    scatter_ = scatter;
+  }
 }
 
 }  // namespace chamber

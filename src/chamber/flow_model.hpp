@@ -23,11 +23,14 @@
 //  - Feed: choke feed; the top band takes feed of the given size distribution up to its loose capacity whenever it
 //    is free, so the feed rate is an output (effects.feed_limited: at most a feeder's rate).
 //  - Liners: new, or the concave worn over the lower chamber (effects.worn_liners, liner_wear.hpp).
+//  - Scatter: with material.lump_std > 0, each pressing of a cell has its own strength, a factor of mean 1 on the
+//    bed law's pressure whose std falls with the number of lumps the cell holds (bed_scatter.hpp).
 //  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "chamber/bed_scatter.hpp"
 #include "chamber/breakage.hpp"
 #include "core/binary_io.hpp"
 #include "core/chamber_geometry.hpp"
@@ -43,6 +46,7 @@ struct FlowMaterial {
   double exponent = 2.0;
   double rebound = 0.15;         // recovered fraction of each compression
   double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max)), at most the solid's (below)
+  double lump_std = 0.0;         // relative std of one lump's share of a bed's pressure (bed_scatter.hpp); 0: none
   BreakageParams breakage;
 };
 
@@ -98,6 +102,7 @@ struct FlowParams {
   // is (mbd::bed_hysteretic). true: the rock keeps it until re-poured (mbd::bed_compacted; breakage by the hazard's
   // rise). Not shipped: on the GYP1200 it jams the feed opening (17 t/h at 400 rpm; src/chamber/README.md).
   bool compaction_memory = false;
+  int seed = 1;               // of the pressings' scatter (material.lump_std > 0)
   std::string material_file;  // config: flow.material_file as given ("" none); its values are in `material`
   FlowMaterial material;
   FlowEffects effects;
@@ -105,7 +110,7 @@ struct FlowParams {
 };
 
 // The parameters of a model that carries only what is deposited into it (the coupled run's fines, whose coarse rock
-// is the DEM's): no choke feed, no prefill.
+// is the DEM's): no choke feed, no prefill, no scatter of the pressings (the DEM's particles have their own).
 FlowParams fines_only(FlowParams p);
 
 using FlowLoads = core::LinerLoads;  // on each liner, about the given centres of mass (world frame)
@@ -186,6 +191,10 @@ class FlowModel {
   std::vector<double> xm_x_, xm_y_, xm_z_, rho_, dist_;
   std::vector<int> seg_;
   std::vector<double> taken_;       // out_ at the last take_discharged (empty: none yet)
+  // The pressings' scatter (material.lump_std > 0, bed_scatter.hpp): a lump's mass per class, each cell's factor on
+  // its bed pressure (drawn when a pressing starts), the draws.
+  std::vector<double> lump_kg_, scatter_;
+  ScatterDraws draws_;
   double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
   long events_ = 0;
   bool prefilled_ = false;

@@ -12,6 +12,7 @@ namespace chamber {
 FlowParams fines_only(FlowParams p) {
   p.prefill = false;
   p.choke_feed = false;
+  p.material.lump_std = 0;  // the pressings' scatter is the DEM's own: its particles are the lumps
   return p;
 }
 

@@ -123,6 +123,13 @@ double fit_rebound(double E, double n, const std::vector<double>& D, const std::
 std::vector<double> breakage_event(const std::vector<double>& feed_passing, const std::vector<double>& sieves,
                                    double s, const BreakageParams& b);
 
+// The pressings' scatter (bed_scatter.hpp) from replicate pourings of the same test (seeds differ): each pouring's
+// peak pressure in its deepest loop; N_eff of a die's bed from its feed by the flow model's size classes.
+double loop_peak_pressure(const PressLoop& L);                      // Pa
+double die_effective_lumps(const PistonDieResult& r);
+// sigma_1 = relative std of the peaks x sqrt(mean N_eff); std::invalid_argument for fewer than two pourings.
+double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings);
+
 // The fitted material (the flow model's FlowMaterial) with the fit's provenance.
 struct MaterialFit {
   FlowMaterial material;

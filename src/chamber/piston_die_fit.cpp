@@ -10,6 +10,8 @@
 #include <stdexcept>
 
 #include "chamber/piston_die.hpp"
+
+#include "chamber/bed_scatter.hpp"
 #include "core/nelder_mead.hpp"
 
 namespace chamber {
@@ -193,6 +195,41 @@ MaterialFit fit_flow_material(const PistonDieResult& r) {
   mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
   fit_breakage(r, m);
   return m;
+}
+
+double loop_peak_pressure(const PressLoop& L) {
+  double peak = 0;
+  for (double p : L.p) peak = std::max(peak, p);
+  return peak;
+}
+
+double die_effective_lumps(const PistonDieResult& r) {
+  std::vector<double> sieves;
+  for (double mm : flow_sieves_mm()) sieves.push_back(mm * 1e-3);
+  const Breakage classes(sieves, BreakageParams());
+  const std::size_t K = sieves.size();
+  if (r.feed_passing.size() != K) throw std::invalid_argument("die_effective_lumps: the feed PSD is not on the flow sieves");
+  std::vector<double> kg, lump;
+  for (std::size_t j = 0; j <= K; ++j) {
+    const double share = (j == K ? 1.0 : r.feed_passing[j]) - (j == 0 ? 0.0 : r.feed_passing[j - 1]);
+    kg.push_back(r.rock_mass * share);
+    lump.push_back(lump_mass(classes.size(j), r.solid_density));
+  }
+  return effective_lumps(kg.data(), lump);
+}
+
+double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings) {
+  std::vector<double> peaks;
+  double n_eff = 0;
+  for (const auto& r : pourings) {
+    if (r.loops.empty()) throw std::invalid_argument("lump_std_of_pourings: a pouring holds no load-unload loop");
+    const PressLoop* deep = &r.loops.front();
+    for (const auto& L : r.loops)
+      if (L.s_max > deep->s_max) deep = &L;
+    peaks.push_back(loop_peak_pressure(*deep));
+    n_eff += die_effective_lumps(r) / double(pourings.size());
+  }
+  return lump_std_from_replicates(peaks, n_eff);
 }
 
 std::vector<LabPoint> read_lab_csv(const std::string& file) {

@@ -33,11 +33,13 @@ struct Args {
   int rocks = 0;           // 0: the library's default
   std::vector<double> ratios;  // empty: the library's default
   double die_mm = 0;       // 0: the library's default
+  int replicates = 1;      // pourings (seeds seed, seed + 1, ...); >= 2: the pressings' scatter (scatter.lump_std)
 };
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--lab CSV]\n  --lab CSV: a laboratory piston-die file (columns "
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV]\n  --replicates K: K pourings "
+    "(seeds N ... N + K - 1), the material fitted on the first, scatter.lump_std from the peaks' spread\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
 [[noreturn]] void usage(const std::string& why) {
@@ -74,6 +76,7 @@ Args parse(int argc, char** argv) {
         }
       } else if (s == "--rocks") a.rocks = static_cast<int>(args.integer(1, 100000));
       else if (s == "--die-mm") a.die_mm = static_cast<double>(args.integer(50, 2000));
+      else if (s == "--replicates") a.replicates = static_cast<int>(args.integer(2, 100));
       else if (s == "--threads") a.threads = static_cast<int>(args.integer(1, 256));
       else if (s == "--seed") a.seed = static_cast<unsigned long long>(args.integer(1, 1000000000));
       else if (s == "--dt-safety") {
@@ -87,14 +90,15 @@ Args parse(int argc, char** argv) {
         std::exit(0);
       } else {
         usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
-              "--die-mm, --ratios, --speed-m-s, --lab)");
+              "--die-mm, --ratios, --speed-m-s, --replicates, --lab)");
       }
     }
   } catch (const std::invalid_argument& e) {
     usage(e.what());
   }
   if (a.out.empty()) usage("--out DIR is required");
-  if (!a.lab.empty() && (a.quick || !a.bpm.empty())) usage("--lab fits lab data: --quick and --bpm do not apply");
+  if (!a.lab.empty() && (a.quick || !a.bpm.empty() || a.replicates > 1))
+    usage("--lab fits lab data: --quick, --bpm and --replicates do not apply");
   return a;
 }
 
@@ -149,8 +153,22 @@ int run_dem(const Args& a) {
   if (a.rocks > 0) o.rock_count = a.rocks;
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
-  const chamber::PistonDieResult r = chamber::run_piston_die(bpm, o);
-  const chamber::MaterialFit m = chamber::fit_flow_material(r);
+  std::vector<chamber::PistonDieResult> pourings{chamber::run_piston_die(bpm, o)};
+  for (int i = 1; i < a.replicates; ++i) {
+    o.seed = a.seed + static_cast<unsigned long long>(i);
+    pourings.push_back(chamber::run_piston_die(bpm, o));
+  }
+  const chamber::PistonDieResult& r = pourings.front();
+  chamber::MaterialFit m = chamber::fit_flow_material(r);
+  std::string scatter;
+  if (pourings.size() > 1) {
+    m.material.lump_std = chamber::lump_std_of_pourings(pourings);
+    scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds " + std::to_string(a.seed) + "-" +
+              std::to_string(o.seed) + "), deepest loop's peak";
+    for (const auto& q : pourings)
+      scatter += " " + f("%.4f", chamber::loop_peak_pressure(q.loops.back()) * 1e-6);
+    scatter += " MPa, N_eff of the first " + f("%.2f", chamber::die_effective_lumps(r)) + ": lump_std " + f("%.4f", m.material.lump_std);
+  }
 
   std::ofstream csv(a.out + "/piston_die.csv");
   csv << "s_max,phase,s,p_MPa\n";
@@ -187,6 +205,7 @@ int run_dem(const Args& a) {
                    f("%.2f", L.energy_per_kg) + " J/kg of " + f("%.2f", L.loading_energy_per_kg) +
                    " J/kg loading work, " + std::to_string(L.bonds_broken) + " bonds broken, " +
                    std::to_string(L.fragments) + " fragments, mass error " + f("%.1e", L.mass_error));
+  if (!scatter.empty()) prov.push_back(scatter);
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
   for (const auto& l : prov) std::printf("%s\n", l.c_str());
   std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",
