@@ -23,7 +23,7 @@ void ChamberDem::add_liners(dem::World& w) const {
   const auto& ia = whole_->interactions();
   for (int k = 0; k < 4; ++k) {
     const auto& from = static_cast<const dem::MeshContact&>(*ia[k]);
-    auto mc = std::make_shared<dem::MeshContact>(from.mesh(), wp_.materials, 1);  // steel (dem::default_table4)
+    auto mc = std::make_shared<dem::MeshContact>(from.mesh(), wp_.materials, from.wall_material());
     if (from.regions()) mc->set_regions(*from.regions());
     mc->set_threads(w.threads());
     w.add_interaction(mc);
@@ -46,11 +46,11 @@ void ChamberDem::decompose(dem::EngineFactory make) {
 
 void ChamberDem::start_engine() {
   focus(*whole_);
-  take_snapshot();  // the outputs' charge until the first bookkeeping
   std::ostringstream os;
   core::BinaryWriter w(os);
   whole_->save_state(w);
   engine_ = make_engine_(os.str(), wp_, [this](dem::World& x) { add_liners(x); });
+  if (engine_->root()) take_snapshot();  // the outputs' charge until the first bookkeeping (only the root's are read)
   decomposed_ = true;
   focus(engine_->part(0));
   share_root_state();

@@ -81,6 +81,7 @@ class MeshContact : public Interaction {
 
   TriMesh& mesh() { return mesh_; }  // set_pose()/set_twist() on it every step
   const TriMesh& mesh() const { return mesh_; }
+  int wall_material() const { return wall_material_; }  // its index in the MaterialTable
   void set_pose(const Pose& p) { mesh_.set_pose(p); }
   void set_twist(const Twist& t) { mesh_.set_twist(t); }
   // Optional region map (must match the mesh's triangle count).
