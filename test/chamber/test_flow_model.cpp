@@ -426,29 +426,17 @@ TEST(FlowModel, AGapWiderThanTheFeedPassesItAndANarrowerOneHoldsTheLumps) {
 // A long run of a gyrating mantle (throw 8 mm, 7 Hz) on the shipped-like cone chamber with choke feed: rock is fed,
 // compressed, broken and discharged; feed = chamber + product to round-off, and a resumed copy stays bit for bit.
 TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
-  core::Profile mantle, concave;
-  mantle.z = {-0.715, -0.2};
-  mantle.r = {0.600, 0.168};
-  concave.z = {-0.760, -0.1};
-  concave.r = {0.662, 0.194};
+  const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
   chamber::FlowParams p;
   p.bands = 20;
   p.sectors = 12;
   chamber::FlowModel m(p, mantle, concave);
-  const double h = 1e-3, w = 2 * M_PI * 7;
-  auto pose = [&](double t) {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(0.014, Eigen::Vector3d(-std::sin(w * t), std::cos(w * t), 0)).toRotationMatrix();
-    return T;
-  };
+  const double h = 1e-3;
+  const auto pose = test_liners::nutating;
   int i = 0;
   for (; i < 1500; ++i) m.step(pose(i * h), kRest, kComM, kComC, h, 9.81);
-  std::stringstream file;
-  core::BinaryWriter w0(file);
-  m.save_state(w0);
-  chamber::FlowModel copy(p, mantle, concave);
-  core::BinaryReader r0(file, "flow test checkpoint");
-  copy.load_state(r0);
+  const auto resumed = test_liners::resumed(m, p, mantle, concave);
+  chamber::FlowModel& copy = *resumed;
   for (int j = i; j < 3000; ++j) {
     m.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
     copy.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
