@@ -2,7 +2,8 @@
 // chamber flow model's material parameters fitted from it (src/chamber/piston_die.hpp).
 //   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--lab CSV]
 // Writes DIR/piston_die.csv (s_max,phase,s,p_MPa), DIR/psd.csv (s_max,sieve_mm,passing_pct; s_max "feed" for the
-// feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml and, through
+// feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml, with --replicates K
+// DIR/piston_die_pourings.csv (every pouring's loops: pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa) and, through
 // plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
 #include <algorithm>
 #include <cstdio>
@@ -176,6 +177,15 @@ int run_dem(const Args& a) {
     for (std::size_t k = 0; k < L.s.size(); ++k)
       csv << L.s_max << "," << (L.phase[k] ? "unload" : "load") << "," << f("%.6g", L.s[k]) << ","
           << f("%.6g", L.p[k] * 1e-6) << "\n";
+  if (pourings.size() > 1) {  // every pouring's curves, for the scatter's record
+    std::ofstream all(a.out + "/piston_die_pourings.csv");
+    all << "pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa\n";
+    for (std::size_t i = 0; i < pourings.size(); ++i)
+      for (const auto& L : pourings[i].loops)
+        for (std::size_t k = 0; k < L.s.size(); ++k)
+          all << i << "," << a.seed + i << "," << f("%.6g", pourings[i].loose_solid_fraction) << "," << L.s_max << ","
+              << (L.phase[k] ? "unload" : "load") << "," << f("%.6g", L.s[k]) << "," << f("%.6g", L.p[k] * 1e-6) << "\n";
+  }
   const auto& sv = chamber::flow_sieves_mm();
   std::ofstream psd(a.out + "/psd.csv"), fit(a.out + "/psd_fit.csv");
   psd << "s_max,sieve_mm,passing_pct\n";
