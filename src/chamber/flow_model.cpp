@@ -95,6 +95,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   gap_.assign(n, 0.0);
   closing_.assign(n, 0);
   count_.assign(n, 0.0);
+  pressed_.assign(n * classes(), 0.0);
+  fresh_.assign(classes(), 0.0);
+  pressed_out_.assign(classes(), 0.0);
   total_.assign(n, 0.0);
   memory_.assign(n, mbd::BedCell{});
   bed_.assign(n, mbd::CompactedBed{});
@@ -189,6 +192,22 @@ void FlowModel::move(std::size_t from, double* to, double kg, const double* clas
   *to_count += kg * count_[from];
 }
 
+// One pressing from s0 to s1 breaks the rock f (kg per class) but the part `pressed` (kg per class, in f) that has had
+// it already; returns the share of f's mass it broke (1 when none had it).
+double FlowModel::break_fresh(double* f, const double* pressed, double s0, double s1) {
+  const std::size_t C = classes();
+  double all = 0, had = 0;
+  for (std::size_t j = 0; j < C; ++j) all += f[j], had += pressed[j];
+  if (had <= 0) {  // (bit for bit as before this law where no rock was pressed out)
+    breakage_.apply_between(s0, s1, f);
+    return 1.0;
+  }
+  for (std::size_t j = 0; j < C; ++j) fresh_[j] = std::max(0.0, f[j] - pressed[j]);
+  breakage_.apply_between(s0, s1, fresh_.data());
+  for (std::size_t j = 0; j < C; ++j) f[j] = fresh_[j] + pressed[j];
+  return all > 0 ? std::max(0.0, 1.0 - had / all) : 0.0;
+}
+
 FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave,
                           const Eigen::Vector3d& com_m, const Eigen::Vector3d& com_c, double h, double gravity) {
   FlowLoads out;
@@ -197,7 +216,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   const auto& mat = p_.material;
   // Puts rock taken from cell k (kg per class in scratch_, kg x its compressions in kg_count) into the cell below, or
   // out of the chamber from the bottom band; c_moved: the compaction it keeps (0: it falls and is re-poured).
-  auto deliver = [&](std::size_t k, double kg, double kg_count, double c_moved) {
+  // pressed_out: the rock was pressed out of cell k's nip (it has had the pressing it joins below, if one goes on).
+  auto deliver = [&](std::size_t k, double kg, double kg_count, double c_moved, bool pressed_out) {
     if (k < S) {
       for (std::size_t j = 0; j < C; ++j) out_[j] += scratch_[j];
       out_count_ += kg_count;
@@ -209,6 +229,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
     total_[below] = sum_classes(below);
     count_[below] = (mb * count_[below] + kg_count) / (mb + kg);
+    if (pressed_out && pressure_[below] > 0)  // it joins the pressing below, which it has had
+      for (std::size_t j = 0; j < C; ++j) pressed_[below * C + j] += scratch_[j];
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
   };
   // Free rock falls: kg out of cell k, split by share, into the cell below (out from the bottom band), re-poured.
@@ -217,30 +239,34 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     std::fill(scratch_.begin(), scratch_.end(), 0.0);
     double moved_count = 0;
     move(k, scratch_.data(), kg, share, &moved_count);
-    deliver(k, kg, moved_count, 0.0);
+    deliver(k, kg, moved_count, 0.0, false);
   };
   // Rock pressed past the compaction limit: kg of cell k's rock (in proportion to its classes) is broken as by one
   // event from where its pressing started to the limit, then pushed into the cell below (out from the bottom band),
-  // keeping the limit's compaction (compaction_memory) and counting the event.
+  // keeping the limit's compaction (compaction_memory) and counting the event. Rock pressed out into k by this same
+  // pressing (pressed_) has had it: one pressing breaks a lump once, however many bands it flows through.
   auto extrude = [&](std::size_t k, double kg) {
     double* f = &mass_[k * C];
+    double* pressed = &pressed_[k * C];
     const double share = kg / total_[k];
     for (std::size_t j = 0; j < C; ++j) {
       scratch_[j] = f[j] * share;
       f[j] -= scratch_[j];
+      pressed_out_[j] = pressed[j] * share;
+      pressed[j] -= pressed_out_[j];
     }
     total_[k] = sum_classes(k);
-    double D;
+    double D, fresh;
     if (p_.compaction_memory) {
       const double from = bed_[k].pressed ? bed_[k].c_start : bed_[k].c;
       D = mat.max_compression - from;
-      breakage_.apply_between(from, mat.max_compression, scratch_.data());
+      fresh = break_fresh(scratch_.data(), pressed_out_.data(), from, mat.max_compression);
     } else {
       const double e0 = std::min(memory_[k].e0, mat.max_compression);
       D = mat.max_compression - e0;
-      breakage_.apply(D / (1.0 - e0), scratch_.data());
+      fresh = break_fresh(scratch_.data(), pressed_out_.data(), 0.0, D / (1.0 - e0));
     }
-    deliver(k, kg, kg * (count_[k] + (D >= kCountedCompression ? 1.0 : 0.0)), mat.max_compression);
+    deliver(k, kg, kg * (count_[k] + (D >= kCountedCompression ? fresh : 0.0)), mat.max_compression, true);
   };
   locate_cells(concave_to_mantle);
   for (std::size_t k = 0; k < cells(); ++k) {
@@ -283,6 +309,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       book_work(0.0);
       memory_[k] = mbd::BedCell{};
       bed_[k] = mbd::CompactedBed{};
+      std::fill_n(&pressed_[k * C], C, 0.0);
       continue;
     }
     double e = std::clamp(1.0 - cap / m, 0.0, mat.max_compression);
@@ -290,20 +317,20 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     // A compression event ends when the liner leaves the rock. With memory it took the rock from the compaction it had
     // (c_start) on to c and selects by the hazard's rise between them (a reload within c breaks nothing); without,
     // by its ratio D / (1 - s0) from where it started.
-    double p = 0, D = 0;
+    double p = 0, D = 0, fresh = 1.0;
     if (p_.compaction_memory) {
       const mbd::CompactedBed before = bed_[k];
       p = mbd::bed_compacted(bed_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
       if (before.pressed && !bed_[k].pressed && before.c > before.c_start) {
         D = before.c - before.c_start;
-        breakage_.apply_between(before.c_start, before.c, &mass_[k * C]);
+        fresh = break_fresh(&mass_[k * C], &pressed_[k * C], before.c_start, before.c);
       }
     } else {
       const mbd::BedCell before = memory_[k];
       p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
       if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
         D = before.emax - before.e0;
-        breakage_.apply(D / (1.0 - before.e0), &mass_[k * C]);
+        fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - before.e0));
       }
     }
     p *= squeeze;
@@ -314,9 +341,10 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     }
     if (D > 0) {
       total_[k] = sum_classes(k);
-      if (D >= kCountedCompression) count_[k] += 1, ++events_;
+      if (D >= kCountedCompression) count_[k] += fresh, ++events_;
     }
     pressure_[k] = p;
+    if (D > 0 || p <= 0) std::fill_n(&pressed_[k * C], C, 0.0);  // its pressing ended: the next is new to all
     book_work(p);
     if (p <= 0) continue;
     impulse_[k] += p * cells_.area[b] * h;
@@ -414,6 +442,7 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put<int64_t>(events_);
   w.put<char>(prefilled_);
   w.put_vec(taken_);
+  w.put_vec(pressed_);
   if (p_.material.lump_std > 0) {
     w.tag("SCAT");
     w.put_vec(scatter_);
@@ -460,6 +489,8 @@ void FlowModel::load_state(core::BinaryReader& r) {
   prefilled_ = r.get<char>() != 0;
   r.get_vec(taken_);
   if (!taken_.empty() && taken_.size() != classes()) r.fail("flow model state is corrupt");
+  r.get_vec(pressed_);
+  if (pressed_.size() != n * classes()) r.fail("flow model state is corrupt");
   if (p_.material.lump_std > 0) {
     r.expect("SCAT");
     std::vector<double> scatter;

@@ -10,7 +10,8 @@
 //    so the compression ratio is s = 1 - A g rho0 / m (the piston-die kinematics rho = rho0 / (1 - s)). s presses
 //    the rock along the hysteretic law: virgin loading p = E (s - s0)^n, unloading recovers `rebound` of the
 //    compression; the loop's loss is the crushing work. Past max_compression the bed cannot compact: the excess is
-//    extruded into the cell below (out from the bottom band), broken as by the pressing that took it to the limit.
+//    extruded into the cell below (out from the bottom band), broken as by the pressing that took it to the limit;
+//    pressed out into a cell in the same pressing, it is not broken by that pressing again (once per pressing).
 //  - Breakage: each completed compression event (one loading-unloading loop, ratio s = (smax - s0) / (1 - s0)) breaks
 //    every class of the cell by the selection and breakage functions (breakage.hpp); mass conserved. The crushing
 //    energy is the liners' work on the rock, p A dg, booked step by step: over a loop the law's loss
@@ -172,6 +173,7 @@ class FlowModel {
 
  private:
   std::vector<double> fingerprint() const;
+  double break_fresh(double* f, const double* pressed, double s0, double s1);
   FlowParams p_;
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;
@@ -180,6 +182,9 @@ class FlowModel {
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
   std::vector<double> speed_, pressure_, gap_, count_, total_;  // per cell (total_: kg, the sum of its classes)
+  // cells x classes, kg: rock pressed out of the nip above into the cell's ongoing pressing (it has had that pressing);
+  // fresh_, pressed_out_: scratch
+  std::vector<double> pressed_, fresh_, pressed_out_;
   std::vector<double> impulse_;                                // per cell, N s
   std::vector<mbd::BedCell> memory_;     // the hysteretic law's (compaction_memory false)
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
