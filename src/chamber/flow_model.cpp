@@ -229,7 +229,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
     total_[below] = sum_classes(below);
     count_[below] = (mb * count_[below] + kg_count) / (mb + kg);
-    if (pressed_out && pressure_[below] > 0)  // it joins the pressing below, which it has had
+    if (pressed_out)  // it has had the pressing it joins below (its cycle's), until that cell releases its rock
       for (std::size_t j = 0; j < C; ++j) pressed_[below * C + j] += scratch_[j];
     speed_[below] = (mb * speed_[below] + kg * speed_[k]) / (mb + kg);
   };
@@ -344,7 +344,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       if (D >= kCountedCompression) count_[k] += fresh, ++events_;
     }
     pressure_[k] = p;
-    if (D > 0 || p <= 0) std::fill_n(&pressed_[k * C], C, 0.0);  // its pressing ended: the next is new to all
+    if (D > 0) std::fill_n(&pressed_[k * C], C, 0.0);  // its pressing ended: the next is new to all
     book_work(p);
     if (p <= 0) continue;
     impulse_[k] += p * cells_.area[b] * h;
@@ -359,6 +359,12 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     out.t_mantle += (X - g * n - com_m).cross(-F);
     out.normal_force += p * cells_.area[b];
   }
+  // Rock at the compaction limit does not compact further: what was pressed into a cell below that this step had left at
+  // its limit goes on down in the same step, as far as a cell with room (or out), not one band per step.
+  for (std::size_t k = cells(); k-- > 0;) {
+    const double over = total_[k] - cells_.area[k / S] * gap_[k] * rho0_ / (1.0 - mat.max_compression);
+    if (over > 1e-12 * total_[k]) extrude(k, over);
+  }
   prefilled_ = true;
   // Free rock falls, bottom band first (what leaves a cell makes room above it in the same step).
   for (std::size_t k = 0; k < cells(); ++k) {
@@ -368,6 +374,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       speed_[k] = 0;
       continue;
     }
+    std::fill_n(&pressed_[k * C], C, 0.0);  // released: its next pressing is new to all its rock
     speed_[k] += gravity * h;
     const double g_next = b > 0 ? gap_[k - S] : gap_[k];
     const double* f = &mass_[k * C];
@@ -442,6 +449,7 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.put<int64_t>(events_);
   w.put<char>(prefilled_);
   w.put_vec(taken_);
+  w.tag("PRSD");  // the rock pressed out into each cell's ongoing pressing (a file without it: another version)
   w.put_vec(pressed_);
   if (p_.material.lump_std > 0) {
     w.tag("SCAT");
@@ -489,6 +497,7 @@ void FlowModel::load_state(core::BinaryReader& r) {
   prefilled_ = r.get<char>() != 0;
   r.get_vec(taken_);
   if (!taken_.empty() && taken_.size() != classes()) r.fail("flow model state is corrupt");
+  r.expect("PRSD");
   r.get_vec(pressed_);
   if (pressed_.size() != n * classes()) r.fail("flow model state is corrupt");
   if (p_.material.lump_std > 0) {
