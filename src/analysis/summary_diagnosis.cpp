@@ -83,6 +83,7 @@ class SummaryObjective : public Objective {
       const auto& r0 = current_.empty() ? reference_[i] : current_[i];
       if ((row_significant(r, z_) && !row_significant(r0, z_)) || (row_significant(r0, z_) && r.chi2 > r0.chi2 * 1.0001))
         s.heldout_worse = true;
+      if (unsteady(r) && !unsteady(r0)) s.heldout_worse = true;
       for (const auto& [q, zq] : r.z) {
         num += zq * zq;
         const double rel = 100.0 / data_.uncertainty_pct.at(q);  // value over its uncertainty
@@ -94,6 +95,16 @@ class SummaryObjective : public Objective {
     s.nrmse_train = s.nrmse_heldout = den > 0 ? std::sqrt(num / den) : 0.0;
     s.birge = s.n_obs > 0 && s.cost > s.n_obs ? std::sqrt(s.cost / s.n_obs) : 1.0;
     return s;
+  }
+  // A std the plant row gives and that is not compared (its cycle-to-cycle scatter, feed and sensors included) exceeded
+  // by the model's: the model has no feed or sensor scatter, so a larger std is its own unsteadiness (a mechanism near
+  // a blow-up), not the plant's.
+  bool unsteady(const RowComparison& r) const {
+    for (const auto& [q, v] : r.plant)
+      if (q.size() > 4 && q.compare(q.size() - 4, 4, "_std") == 0 && !data_.uncertainty_pct.count(q) &&
+          r.model.count(q) && r.model.at(q) > v)
+        return true;
+    return false;
   }
   // The rows a new term is judged against: the model with the terms named so far.
   void named(const ParamSet& p) override { current_ = compare(p); }
@@ -229,6 +240,9 @@ std::string summary_diagnosis_markdown(const SummaryDiagnosis& d) {
         << 100 * c.explained_train << " % | " << (c.heldout_worse ? "yes" : "no") << " |\n";
     o << "\nDecision: " << st.why << ".\n";
   }
+  if (!d.selection.steps.empty())
+    o << "\nA row worse: a row consistent with its uncertainty no longer is, an inconsistent row's chi-square rises, or a\n"
+         "std the plant gives and that is not compared rises above the plant's (the model has no feed or sensor scatter).\n";
   o << "\nModel runs: " << d.model_runs << ", wall time " << d.wall_s << " s.\n";
   return o.str();
 }

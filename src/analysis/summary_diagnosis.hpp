@@ -4,7 +4,9 @@
 // explain it named by the same forward selection as for time series (selection.hpp).
 //
 // Every row trains (a handful of numbers per speed leaves nothing to hold out); instead a term must not make any
-// row worse: a row consistent with its uncertainty stays so, an inconsistent row's chi-square must not rise.
+// row worse: a row consistent with its uncertainty stays so, an inconsistent row's chi-square must not rise, and a
+// std the plant gives but that is not compared must not rise above the plant's (the model has no feed or sensor
+// scatter: a larger std is its own unsteadiness).
 #include <string>
 #include <vector>
 
