@@ -144,6 +144,10 @@ struct MaterialFit {
 // From a DEM run: all loading points of all loops for the pressure law, the loops for rebound, the PSDs for
 // breakage (sieves >= min_resolved only).
 MaterialFit fit_flow_material(const PistonDieResult& r);
+// Pooled over replicate pourings of one test (seeds differ): the pressure law on every pouring's deepest loading
+// branch together, rebound on every loop, breakage on every loop from its own pouring's feed; loose fraction the
+// pourings' total rock mass over their total solid mass at loose volume. std::invalid_argument if empty.
+MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings);
 
 // Laboratory piston-die data: points in order; phase 0 loading, 1 unloading (-1: from the direction of s).
 struct LabPoint {

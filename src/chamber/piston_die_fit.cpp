@@ -29,32 +29,43 @@ std::string fmt(const char* f, double x) {
   return b;
 }
 
-// Breakage fit over the resolved sieves (see piston_die.hpp).
-void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
+// Breakage fit over the resolved sieves (see piston_die.hpp), on every pouring's loops together (each from its own
+// feed).
+void fit_breakage(const std::vector<const PistonDieResult*>& rs, MaterialFit& m) {
+  const PistonDieResult& r = *rs.front();
   std::vector<double> sieves;
   for (double mm : flow_sieves_mm()) sieves.push_back(mm * 1e-3);
+  double min_resolved = 0.0;  // the coarsest pouring's (the same BPM gives one value)
+  for (const auto* q : rs) min_resolved = std::max(min_resolved, q->min_resolved);
   std::vector<std::size_t> use;
   for (std::size_t k = 0; k < sieves.size(); ++k)
-    if (r.min_resolved > 0 && sieves[k] >= r.min_resolved * (1 - 1e-9)) use.push_back(k);
-  const std::string classes = "classes above " + fmt("%g", r.min_resolved * 1e3) + " mm (>= " +
-                              fmt("%.1f", r.min_resolved / std::max(r.metaparticle_diameter, 1e-12)) +
+    if (min_resolved > 0 && sieves[k] >= min_resolved * (1 - 1e-9)) use.push_back(k);
+  const std::string classes = "classes above " + fmt("%g", min_resolved * 1e3) + " mm (>= " +
+                              fmt("%.1f", min_resolved / std::max(r.metaparticle_diameter, 1e-12)) +
                               " volume-mean metaparticle diameters of " + fmt("%.1f", r.metaparticle_diameter * 1e3) +
                               " mm)";
   double change = 0.0;
-  for (const auto& L : r.loops)
-    for (std::size_t k : use) change = std::max(change, std::abs(L.passing[k] - r.feed_passing[k]));
-  if (use.empty() || r.loops.empty() || change < 0.01) {
+  std::size_t loops = 0, fewest_loops = r.loops.size();
+  for (const auto* q : rs) {
+    loops += q->loops.size(), fewest_loops = std::min(fewest_loops, q->loops.size());
+    for (const auto& L : q->loops)
+      for (std::size_t k : use) change = std::max(change, std::abs(L.passing[k] - q->feed_passing[k]));
+  }
+  if (use.empty() || loops == 0 || change < 0.01) {
     m.breakage_note = "breakage not fitted (" + std::string(use.empty() ? "no resolved sieve" : "no measurable breakage") +
                       "): defaults";
     return;
   }
-  // Feed classes that are resolved and carry >= 10 % of the feed: q needs two of them.
+  // Feed classes that are resolved and carry >= 10 % of the feed (the pourings' mean): q needs two of them.
   int feed_classes = 0;
-  for (std::size_t i = 0; i + 1 < use.size(); ++i)
-    if (r.feed_passing[use[i + 1]] - r.feed_passing[use[i]] >= 0.10) ++feed_classes;
-  const bool fit_q = feed_classes >= 2, fit_m = r.loops.size() >= 2;
+  for (std::size_t i = 0; i + 1 < use.size(); ++i) {
+    double share = 0.0;
+    for (const auto* q : rs) share += (q->feed_passing[use[i + 1]] - q->feed_passing[use[i]]) / double(rs.size());
+    if (share >= 0.10) ++feed_classes;
+  }
+  const bool fit_q = feed_classes >= 2, fit_m = fewest_loops >= 2;
   BreakageParams b0;
-  b0.x_resolved = r.min_resolved;  // below it: the strength's size effect through the fitted pressure law
+  b0.x_resolved = min_resolved;  // below it: the strength's size effect through the fitted pressure law
   b0.q_below = bed_size_exponent(kPointLoadSizeExponent, m.material.exponent);
   auto unpack = [&](const std::vector<double>& u) {
     BreakageParams b = b0;
@@ -69,10 +80,11 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
   };
   auto sse = [&](const BreakageParams& b) {
     double e = 0.0;
-    for (const auto& L : r.loops) {
-      const auto pred = breakage_event(r.feed_passing, sieves, L.s_reached, b);
-      for (std::size_t k : use) e += std::pow(100.0 * (pred[k] - L.passing[k]), 2);
-    }
+    for (const auto* q : rs)
+      for (const auto& L : q->loops) {
+        const auto pred = breakage_event(q->feed_passing, sieves, L.s_reached, b);
+        for (std::size_t k : use) e += std::pow(100.0 * (pred[k] - L.passing[k]), 2);
+      }
     return e;
   };
   std::vector<double> u0{logit((b0.s_c - 0.01) / 4.99)};
@@ -93,14 +105,15 @@ void fit_breakage(const PistonDieResult& r, MaterialFit& m) {
     if (f < best) best = f, ubest = u;
   }
   m.material.breakage = unpack(ubest);
-  m.psd_rms_pct = std::sqrt(best / (r.loops.size() * use.size()));
+  m.psd_rms_pct = std::sqrt(best / (loops * use.size()));
   m.fitted = {"s_c"};
   if (fit_m) m.fitted.push_back("m");
   if (fit_q) m.fitted.push_back("q");
   m.fitted.push_back("phi");
   m.fitted.push_back("gamma");
-  m.breakage_note = "breakage fitted on " + classes + "; " + (fit_q ? "" : "q, ") + (fit_m ? "" : "m, ") +
-                    "beta: defaults (the resolved sizes do not constrain them); below " + fmt("%g", r.min_resolved * 1e3) +
+  m.breakage_note = "breakage fitted on " + classes + (rs.size() > 1 ? ", " + std::to_string(rs.size()) + " pourings" : "") +
+                    "; " + (fit_q ? "" : "q, ") + (fit_m ? "" : "m, ") +
+                    "beta: defaults (the resolved sizes do not constrain them); below " + fmt("%g", min_resolved * 1e3) +
                     " mm s_c follows the ISRM point-load size effect through the bed's pressure law, exponent 0.45 / n = " +
                     fmt("%g", b0.q_below);
 }
@@ -174,26 +187,43 @@ std::vector<double> breakage_event(const std::vector<double>& P, const std::vect
   return cum;
 }
 
-MaterialFit fit_flow_material(const PistonDieResult& r) {
-  if (r.loops.empty()) throw std::invalid_argument("fit_flow_material: the result holds no load-unload loop");
+MaterialFit fit_flow_material(const PistonDieResult& r) { return fit_flow_material(std::vector<PistonDieResult>{r}); }
+
+MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
+  if (pourings.empty()) throw std::invalid_argument("fit_flow_material: no pouring to fit");
+  std::vector<const PistonDieResult*> rs;
+  for (const auto& r : pourings) {
+    if (r.loops.empty()) throw std::invalid_argument("fit_flow_material: a pouring holds no load-unload loop");
+    rs.push_back(&r);
+  }
   MaterialFit m;
   auto& mat = m.material;
-  mat.solid_density = r.solid_density;
-  mat.loose_fraction = r.loose_solid_fraction;
-  // Every loop starts from the same settled bed (deterministic), so the deepest one's loading branch holds the
-  // others': fit that one.
-  const PressLoop* deep = &r.loops.front();
-  for (const auto& L : r.loops)
-    if (L.s_reached > deep->s_reached) deep = &L;
+  mat.solid_density = rs.front()->solid_density;
+  // loose fraction of the pourings together: their rock mass over their solid density x loose volume (a plain mean
+  // where a result has no mass, as a synthetic one)
+  double mass = 0.0, volume = 0.0, mean = 0.0;
+  for (const auto* r : rs) {
+    mass += r->rock_mass, mean += r->loose_solid_fraction / double(rs.size());
+    if (r->loose_solid_fraction > 0) volume += r->rock_mass / r->loose_solid_fraction;
+  }
+  const bool weighed = std::all_of(rs.begin(), rs.end(), [](const PistonDieResult* r) { return r->rock_mass > 0; });
+  mat.loose_fraction = weighed && volume > 0 ? mass / volume : mean;
+  // Every loop of a pouring starts from the same settled bed (deterministic), so the deepest one's loading branch
+  // holds the others': each pouring's deepest loading branch, all of them in one fit.
   std::vector<double> s, p, D, loss;
-  for (std::size_t k = 0; k < deep->s.size(); ++k)
-    if (deep->phase[k] == 0) s.push_back(deep->s[k]), p.push_back(deep->p[k]);
+  for (const auto* r : rs) {
+    const PressLoop* deep = &r->loops.front();
+    for (const auto& L : r->loops)
+      if (L.s_reached > deep->s_reached) deep = &L;
+    for (std::size_t k = 0; k < deep->s.size(); ++k)
+      if (deep->phase[k] == 0) s.push_back(deep->s[k]), p.push_back(deep->p[k]);
+    for (const auto& L : r->loops) D.push_back(L.s_reached), loss.push_back(L.loop_energy);
+  }
   m.pressure_fit = fit_power_law(s, p, 0.02);
   mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
-  for (const auto& L : r.loops) D.push_back(L.s_reached), loss.push_back(L.loop_energy);
   mat.max_compression = solid_compaction_limit(mat.loose_fraction);
   mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
-  fit_breakage(r, m);
+  fit_breakage(rs, m);
   return m;
 }
 

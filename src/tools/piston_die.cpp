@@ -3,9 +3,11 @@
 //   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--lab CSV]
 // Writes DIR/piston_die.csv (s_max,phase,s,p_MPa), DIR/psd.csv (s_max,sieve_mm,passing_pct; s_max "feed" for the
 // feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml, with --replicates K
-// DIR/piston_die_pourings.csv (every pouring's loops: pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa) and, through
+// DIR/piston_die_pourings.csv (every pouring's loops: pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa),
+// DIR/piston_die_fits.csv (each pouring's own fit and the pooled one, which flow_material.yaml holds) and, through
 // plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -19,6 +21,7 @@
 #include "core/cli_args.hpp"
 #include "core/openmp_wait.hpp"
 #include "core/run_program.hpp"
+#include "dem/world.hpp"
 
 namespace fs = std::filesystem;
 
@@ -34,13 +37,15 @@ struct Args {
   int rocks = 0;           // 0: the library's default
   std::vector<double> ratios;  // empty: the library's default
   double die_mm = 0;       // 0: the library's default
-  int replicates = 1;      // pourings (seeds seed, seed + 1, ...); >= 2: the pressings' scatter (scatter.lump_std)
+  int replicates = 1;      // pourings (seeds seed, seed + 1, ...), fitted pooled; >= 2: also scatter.lump_std
 };
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
     "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV]\n  --replicates K: K pourings "
-    "(seeds N ... N + K - 1), the material fitted on the first, scatter.lump_std from the peaks' spread\n  --lab CSV: a laboratory piston-die file (columns "
+    "(seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's own fit in "
+    "piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring that blows up is pressed again at half "
+    "the step\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
 [[noreturn]] void usage(const std::string& why) {
@@ -115,6 +120,53 @@ std::string f(const char* fmt, double x) {
   return b;
 }
 
+// The values a fit gives, by name (piston_die_fits.csv's columns after pouring,seed,dt_safety).
+std::vector<std::pair<std::string, double>> fitted_values(const chamber::MaterialFit& m) {
+  const auto& x = m.material;
+  const auto& b = x.breakage;
+  // s_c at the smallest resolved class's lower bound: what the product below it hinges on (src/chamber/README.md)
+  const double s_c_resolved = b.s_c * std::pow(b.x_resolved / b.x_ref, -b.q);
+  return {{"loose_solid_fraction", x.loose_fraction}, {"modulus_MPa", x.modulus_Pa * 1e-6}, {"exponent", x.exponent},
+          {"rms_ln_p", m.pressure_fit.rms_log},       {"rebound", x.rebound},              {"s_c", b.s_c},
+          {"m", b.m},                                 {"q", b.q},                          {"phi", b.phi},
+          {"gamma", b.gamma},                         {"s_c_at_resolved", s_c_resolved},   {"psd_rms_pct", m.psd_rms_pct}};
+}
+
+// Writes every pouring's own fit and the pooled one (pouring "pooled"); returns one line per value: pooled, mean
+// and sample std of the pourings' own fits, min-max.
+std::vector<std::string> write_pouring_fits(const std::string& file, unsigned long long seed0,
+                                            const std::vector<chamber::PistonDieResult>& pourings,
+                                            const std::vector<double>& dt_used,
+                                            const std::vector<chamber::MaterialFit>& each,
+                                            const chamber::MaterialFit& pooled) {
+  std::ofstream csv(file);
+  csv << "pouring,seed,dt_safety";
+  for (const auto& [name, v] : fitted_values(pooled)) csv << "," << name;
+  csv << "\n";
+  for (std::size_t i = 0; i < each.size(); ++i) {
+    csv << i << "," << seed0 + i << "," << dt_used[i];
+    for (const auto& [name, v] : fitted_values(each[i])) csv << "," << f("%.6g", v);
+    csv << "\n";
+  }
+  csv << "pooled,,";
+  for (const auto& [name, v] : fitted_values(pooled)) csv << "," << f("%.6g", v);
+  csv << "\n";
+  std::vector<std::string> lines{"pooled fit of " + std::to_string(pourings.size()) +
+                                 " pourings; each value: pooled (the pourings' own fits: mean +- sample std, min-max)"};
+  const auto names = fitted_values(pooled);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    double mean = 0, var = 0, lo = 1e300, hi = -1e300;
+    for (const auto& e : each) {
+      const double v = fitted_values(e)[k].second;
+      mean += v / each.size(), lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    for (const auto& e : each) var += std::pow(fitted_values(e)[k].second - mean, 2) / (each.size() - 1);
+    lines.push_back("  " + names[k].first + " " + f("%.4g", names[k].second) + " (" + f("%.4g", mean) + " +- " +
+                    f("%.3g", std::sqrt(var)) + ", " + f("%.4g", lo) + "-" + f("%.4g", hi) + ")");
+  }
+  return lines;
+}
+
 int run_lab(const Args& a) {
   const auto pts = chamber::read_lab_csv(a.lab);
   const chamber::MaterialFit m = chamber::fit_flow_material_lab(pts);
@@ -154,21 +206,42 @@ int run_dem(const Args& a) {
   if (a.rocks > 0) o.rock_count = a.rocks;
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
-  std::vector<chamber::PistonDieResult> pourings{chamber::run_piston_die(bpm, o)};
-  for (int i = 1; i < a.replicates; ++i) {
+  std::vector<chamber::PistonDieResult> pourings;
+  std::vector<double> dt_used;  // each pouring's dt_safety
+  for (int i = 0; i < a.replicates; ++i) {
     o.seed = a.seed + static_cast<unsigned long long>(i);
-    pourings.push_back(chamber::run_piston_die(bpm, o));
+    chamber::PistonDieOptions oi = o;
+    try {
+      pourings.push_back(chamber::run_piston_die(bpm, oi));
+    } catch (const dem::BlowUp& e) {
+      if (a.replicates == 1) throw;  // one pouring: the user chose its step
+      // A pouring left out would bias the rest (it may be the stiffest bed): pressed again from the same pouring
+      // (same seed) at half the step, once.
+      oi.dt_safety = 0.5 * o.dt_safety;
+      std::fprintf(stderr, "piston_die: pouring %d (seed %llu) blew up (%s); pressing it again at --dt-safety %g\n", i,
+                   oi.seed, e.what(), oi.dt_safety);
+      pourings.push_back(chamber::run_piston_die(bpm, oi));
+    }
+    dt_used.push_back(oi.dt_safety);
   }
   const chamber::PistonDieResult& r = pourings.front();
-  chamber::MaterialFit m = chamber::fit_flow_material(r);
+  chamber::MaterialFit m = chamber::fit_flow_material(pourings);  // pooled over the pourings
   std::string scatter;
+  std::vector<std::string> spread;
   if (pourings.size() > 1) {
+    std::vector<chamber::MaterialFit> each;
+    for (const auto& q : pourings) each.push_back(chamber::fit_flow_material(q));
+    spread = write_pouring_fits(a.out + "/piston_die_fits.csv", a.seed, pourings, dt_used, each, m);
     m.material.lump_std = chamber::lump_std_of_pourings(pourings);
     scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds " + std::to_string(a.seed) + "-" +
               std::to_string(o.seed) + "), deepest loop's peak";
     for (const auto& q : pourings)
       scatter += " " + f("%.4f", chamber::loop_peak_pressure(q.loops.back()) * 1e-6);
     scatter += " MPa, N_eff of the first " + f("%.2f", chamber::die_effective_lumps(r)) + ": lump_std " + f("%.4f", m.material.lump_std);
+    for (std::size_t i = 0; i < dt_used.size(); ++i)
+      if (dt_used[i] != o.dt_safety)
+        scatter += "; pouring " + std::to_string(i) + " pressed at dt_safety " + f("%g", dt_used[i]) + " (blew up at " +
+                   f("%g", o.dt_safety) + ")";
   }
 
   std::ofstream csv(a.out + "/piston_die.csv");
@@ -216,6 +289,7 @@ int run_dem(const Args& a) {
                    " J/kg loading work, " + std::to_string(L.bonds_broken) + " bonds broken, " +
                    std::to_string(L.fragments) + " fragments, mass error " + f("%.1e", L.mass_error));
   if (!scatter.empty()) prov.push_back(scatter);
+  prov.insert(prov.end(), spread.begin(), spread.end());
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
   for (const auto& l : prov) std::printf("%s\n", l.c_str());
   std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",

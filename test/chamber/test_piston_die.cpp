@@ -101,6 +101,68 @@ TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
   EXPECT_NEAR(m.material.breakage.q_below, 0.45 / 2.5, 1e-6);  // the strength's size effect through p = E s^n
 }
 
+namespace {
+// A synthetic pouring: loading p = E s^n to each s, the product one breakage event of `truth` on `feed`.
+PistonDieResult synthetic_pouring(const std::vector<double>& feed, const BreakageParams& truth, double E, double n,
+                                  double loose, double rock_mass) {
+  PistonDieResult r;
+  r.feed_passing = feed;
+  r.min_resolved = 0.001, r.metaparticle_diameter = 0.0005;
+  r.solid_density = 2600, r.loose_solid_fraction = loose, r.rock_mass = rock_mass;
+  for (double s : {0.1, 0.2, 0.3}) {
+    PressLoop L;
+    L.s_max = L.s_reached = s;
+    for (int k = 0; k <= 30; ++k) L.s.push_back(s * k / 30.0), L.p.push_back(E * std::pow(s * k / 30.0, n)), L.phase.push_back(0);
+    L.s.push_back(0.9 * s), L.p.push_back(0.0), L.phase.push_back(1);
+    L.loop_energy = path_integral(L.s, L.p);
+    L.passing = breakage_event(feed, sieves_m(), s, truth);
+    r.loops.push_back(L);
+  }
+  return r;
+}
+}  // namespace
+
+// Pourings of one rock with other feeds and packings: the pooled fit recovers the rock from all of them, and weighs
+// each (a fit of the first alone, as before, gives the first's pressure and packing).
+TEST(PistonDieFit, PooledFitOfReplicatePouringsRecoversTheRockAndWeighsEveryPouring) {
+  const auto sv = sieves_m();
+  std::vector<double> coarse(sv.size()), fine(sv.size());
+  for (std::size_t k = 0; k < sv.size(); ++k) {
+    coarse[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(50.0 / 20.0), 0.0, 1.0);
+    fine[k] = std::clamp(std::log(sv[k] / 0.012) / std::log(40.0 / 12.0), 0.0, 1.0);
+  }
+  BreakageParams truth;
+  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  const std::vector<PistonDieResult> same{synthetic_pouring(coarse, truth, 4e7, 2.5, 0.50, 2.0),
+                                          synthetic_pouring(fine, truth, 4e7, 2.5, 0.40, 1.0)};
+  const MaterialFit m = fit_flow_material(same);
+  EXPECT_NEAR(m.material.modulus_Pa, 4e7, 1e-3 * 4e7);
+  EXPECT_NEAR(m.material.exponent, 2.5, 1e-6);
+  EXPECT_NEAR(m.material.loose_fraction, 3.0 / (2.0 / 0.5 + 1.0 / 0.4), 1e-12);  // total mass / total loose volume
+  EXPECT_NEAR(m.material.max_compression, 1.0 - m.material.loose_fraction, 1e-12);
+  EXPECT_LT(m.psd_rms_pct, 0.05);
+  EXPECT_NEAR(m.material.breakage.s_c, truth.s_c, 0.01);
+  EXPECT_NEAR(m.material.breakage.m, truth.m, 0.05);
+  EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
+  EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
+  EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
+  EXPECT_NE(m.breakage_note.find("2 pourings"), std::string::npos) << m.breakage_note;
+
+  // two beds of one law but other stiffness (as a stiff and a soft pouring): equal points each, so the log fit of
+  // them together is the geometric mean of the moduli; the rebound fits both loops' losses
+  const std::vector<PistonDieResult> two{synthetic_pouring(coarse, truth, 2e7, 2.0, 0.5, 1.0),
+                                         synthetic_pouring(coarse, truth, 8e7, 2.0, 0.5, 1.0)};
+  const MaterialFit g = fit_flow_material(two);
+  EXPECT_NEAR(g.material.modulus_Pa, 4e7, 1e-9 * 4e7);
+  EXPECT_NEAR(g.material.exponent, 2.0, 1e-9);
+  EXPECT_GT(g.pressure_fit.rms_log, 0.6);  // ln 2 apart from each: the pourings' spread shows in the fit's rms
+  std::vector<double> D, loss;
+  for (const auto& r : two)
+    for (const auto& L : r.loops) D.push_back(L.s_reached), loss.push_back(L.loop_energy);
+  EXPECT_NEAR(g.material.rebound, fit_rebound(4e7, 2.0, D, loss), 1e-12);
+  EXPECT_THROW(fit_flow_material(std::vector<PistonDieResult>{}), std::invalid_argument);
+}
+
 TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
   const std::string f = testing::TempDir() + "/lab_piston_die.csv";
   {
