@@ -323,8 +323,18 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     double fsum = 0.0, ssum = 0.0, peak = 0.0;
     int n = 0;
     double next_report = seconds_since(tl) + 10.0;
+    bool blew_up = false;
     for (;;) {
-      wk.step(1);
+      try {
+        wk.step(1);
+      } catch (const dem::BlowUp& e) {
+        if (!o.keep_loops_on_blowup || res.loops.empty()) throw;
+        char at[64];
+        std::snprintf(at, sizeof at, "s_max %.2f blew up at s %.4f: ", s_max, L.s_reached);
+        res.blowup = at + std::string(e.what());
+        blew_up = true;
+        break;
+      }
       const double s = (H0 - wk.wall(d.piston).p[2]) / H0;
       fsum += wk.wall(d.piston).force[2];  // particles push the piston up (+z)
       ssum += s;
@@ -346,6 +356,10 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
                      phase ? "unloading" : "loading", sm, pm * 1e-6, wk.breaks().size() - settle_breaks);
         next_report = seconds_since(tl) + 10.0;
       }
+    }
+    if (blew_up) {  // a deeper pressing of this bed would jam again: the completed loops are the result
+      if (o.verbose) std::fprintf(stderr, "  %s; the %zu loops completed are kept\n", res.blowup.c_str(), res.loops.size());
+      break;
     }
     std::vector<double> sl, pl;
     for (std::size_t k = 0; k < L.s.size(); ++k)

@@ -61,6 +61,10 @@ struct PistonDieOptions {
   // A blow-up's state dump (dem::WorldParams::blowup_dump_path): set it to a file in the run's out dir; "": an
   // unguessable name in the temporary folder.
   std::string blowup_dump_path;
+  // A loop that blows up (a bed jammed under the rigid piston: halving the step does not help, measured) ends the test
+  // with the loops completed kept (PistonDieResult::blowup says where); false: the blow-up is thrown. Either way a
+  // blow-up before the first loop completes is thrown.
+  bool keep_loops_on_blowup = false;
   void validate() const;             // std::invalid_argument naming the option and what is accepted
 };
 
@@ -93,7 +97,8 @@ struct PistonDieResult {
   double metaparticle_diameter = 0.0;  // m, volume-mean
   double min_resolved = 0.0;         // m, smallest class lower bound resolved
   std::vector<double> feed_passing;  // feed PSD (fragments of the settled bed) on flow_sieves_mm()
-  std::vector<PressLoop> loops;
+  std::vector<PressLoop> loops;      // the completed ones
+  std::string blowup;                // keep_loops_on_blowup: the loop that blew up and why ("" when none did)
   double wall_s = 0.0;
 };
 
@@ -124,7 +129,7 @@ std::vector<double> breakage_event(const std::vector<double>& feed_passing, cons
                                    double s, const BreakageParams& b);
 
 // The pressings' scatter (bed_scatter.hpp) from replicate pourings of the same test (seeds differ): each pouring's
-// peak pressure in its deepest loop; N_eff of a die's bed from its feed by the flow model's size classes.
+// peak pressure in the deepest loop all completed; N_eff of a die's bed from its feed by the flow model's size classes.
 double loop_peak_pressure(const PressLoop& L);                      // Pa
 double die_effective_lumps(const PistonDieResult& r);
 // sigma_1 = relative std of the peaks x sqrt(mean N_eff); std::invalid_argument for fewer than two pourings.

@@ -249,13 +249,22 @@ double die_effective_lumps(const PistonDieResult& r) {
 }
 
 double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings) {
+  // the deepest s_max every pouring completed (one that blew up deeper kept its shallower loops)
+  double common = 1e300;
+  for (const auto& r : pourings) {
+    if (r.loops.empty()) throw std::invalid_argument("lump_std_of_pourings: a pouring holds no load-unload loop");
+    double deepest = 0.0;
+    for (const auto& L : r.loops) deepest = std::max(deepest, L.s_max);
+    common = std::min(common, deepest);
+  }
   std::vector<double> peaks;
   double n_eff = 0;
   for (const auto& r : pourings) {
-    if (r.loops.empty()) throw std::invalid_argument("lump_std_of_pourings: a pouring holds no load-unload loop");
-    const PressLoop* deep = &r.loops.front();
+    const PressLoop* deep = nullptr;
     for (const auto& L : r.loops)
-      if (L.s_max > deep->s_max) deep = &L;
+      if (L.s_max <= common && (!deep || L.s_max > deep->s_max)) deep = &L;
+    if (!deep || deep->s_max != common)
+      throw std::invalid_argument("lump_std_of_pourings: the pourings were not pressed to the same s_max");
     peaks.push_back(loop_peak_pressure(*deep));
     n_eff += die_effective_lumps(r) / double(pourings.size());
   }

@@ -44,8 +44,8 @@ constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
     "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV]\n  --replicates K: K pourings "
     "(seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's own fit in "
-    "piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring that blows up is pressed again at half "
-    "the step\n  --lab CSV: a laboratory piston-die file (columns "
+    "piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up keeps "
+    "the loops it completed\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
 [[noreturn]] void usage(const std::string& why) {
@@ -136,15 +136,14 @@ std::vector<std::pair<std::string, double>> fitted_values(const chamber::Materia
 // and sample std of the pourings' own fits, min-max.
 std::vector<std::string> write_pouring_fits(const std::string& file, unsigned long long seed0,
                                             const std::vector<chamber::PistonDieResult>& pourings,
-                                            const std::vector<double>& dt_used,
                                             const std::vector<chamber::MaterialFit>& each,
                                             const chamber::MaterialFit& pooled) {
   std::ofstream csv(file);
-  csv << "pouring,seed,dt_safety";
+  csv << "pouring,seed,loops";
   for (const auto& [name, v] : fitted_values(pooled)) csv << "," << name;
   csv << "\n";
   for (std::size_t i = 0; i < each.size(); ++i) {
-    csv << i << "," << seed0 + i << "," << dt_used[i];
+    csv << i << "," << seed0 + i << "," << pourings[i].loops.size();
     for (const auto& [name, v] : fitted_values(each[i])) csv << "," << f("%.6g", v);
     csv << "\n";
   }
@@ -207,22 +206,14 @@ int run_dem(const Args& a) {
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
   std::vector<chamber::PistonDieResult> pourings;
-  std::vector<double> dt_used;  // each pouring's dt_safety
+  // Replicates: a pouring whose deeper loop blows up (a jammed bed; half the step jams it too, measured) keeps the
+  // loops it completed, so neither the pouring nor the others' work is lost.
+  o.keep_loops_on_blowup = a.replicates > 1;
   for (int i = 0; i < a.replicates; ++i) {
     o.seed = a.seed + static_cast<unsigned long long>(i);
-    chamber::PistonDieOptions oi = o;
-    try {
-      pourings.push_back(chamber::run_piston_die(bpm, oi));
-    } catch (const dem::BlowUp& e) {
-      if (a.replicates == 1) throw;  // one pouring: the user chose its step
-      // A pouring left out would bias the rest (it may be the stiffest bed): pressed again from the same pouring
-      // (same seed) at half the step, once.
-      oi.dt_safety = 0.5 * o.dt_safety;
-      std::fprintf(stderr, "piston_die: pouring %d (seed %llu) blew up (%s); pressing it again at --dt-safety %g\n", i,
-                   oi.seed, e.what(), oi.dt_safety);
-      pourings.push_back(chamber::run_piston_die(bpm, oi));
-    }
-    dt_used.push_back(oi.dt_safety);
+    pourings.push_back(chamber::run_piston_die(bpm, o));
+    if (!pourings.back().blowup.empty())
+      std::fprintf(stderr, "piston_die: pouring %d (seed %llu): %s\n", i, o.seed, pourings.back().blowup.c_str());
   }
   const chamber::PistonDieResult& r = pourings.front();
   chamber::MaterialFit m = chamber::fit_flow_material(pourings);  // pooled over the pourings
@@ -231,17 +222,17 @@ int run_dem(const Args& a) {
   if (pourings.size() > 1) {
     std::vector<chamber::MaterialFit> each;
     for (const auto& q : pourings) each.push_back(chamber::fit_flow_material(q));
-    spread = write_pouring_fits(a.out + "/piston_die_fits.csv", a.seed, pourings, dt_used, each, m);
+    spread = write_pouring_fits(a.out + "/piston_die_fits.csv", a.seed, pourings, each, m);
     m.material.lump_std = chamber::lump_std_of_pourings(pourings);
     scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds " + std::to_string(a.seed) + "-" +
-              std::to_string(o.seed) + "), deepest loop's peak";
+              std::to_string(o.seed) + "), the deepest common loop's peak";
     for (const auto& q : pourings)
       scatter += " " + f("%.4f", chamber::loop_peak_pressure(q.loops.back()) * 1e-6);
     scatter += " MPa, N_eff of the first " + f("%.2f", chamber::die_effective_lumps(r)) + ": lump_std " + f("%.4f", m.material.lump_std);
-    for (std::size_t i = 0; i < dt_used.size(); ++i)
-      if (dt_used[i] != o.dt_safety)
-        scatter += "; pouring " + std::to_string(i) + " pressed at dt_safety " + f("%g", dt_used[i]) + " (blew up at " +
-                   f("%g", o.dt_safety) + ")";
+    for (std::size_t i = 0; i < pourings.size(); ++i)
+      if (!pourings[i].blowup.empty())
+        scatter += "; pouring " + std::to_string(i) + " " + pourings[i].blowup.substr(0, pourings[i].blowup.find(':')) +
+                   ", its completed loops kept";
   }
 
   std::ofstream csv(a.out + "/piston_die.csv");

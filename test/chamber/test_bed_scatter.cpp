@@ -131,6 +131,14 @@ TEST(BedScatter, LumpStdFromReplicatePressings) {
   const double n = 2.0 / chamber::lump_mass(classes.size(j40), 2600);
   EXPECT_NEAR(chamber::die_effective_lumps(pourings[0]), n, 1e-9 * n);
   EXPECT_NEAR(chamber::lump_std_of_pourings(pourings), 0.2 * std::sqrt(n), 1e-9);
+  // a pouring pressed deeper (the others blew up there and kept their shallower loops): the peaks are compared at
+  // the deepest s_max all completed, not at each one's deepest
+  chamber::PressLoop deeper;
+  deeper.s_max = 0.42, deeper.p = {0.3e6, 9e6, 0.5e6};
+  pourings[1].loops.push_back(deeper);
+  EXPECT_NEAR(chamber::lump_std_of_pourings(pourings), 0.2 * std::sqrt(n), 1e-9);
+  pourings[2].loops.erase(pourings[2].loops.begin() + 1);  // pressed to 0.15 only: compared at 0.15, all peaks 5 MPa
+  EXPECT_NEAR(chamber::lump_std_of_pourings(pourings), 0.0, 1e-12);
 }
 
 // One cell pressed twice: each pressing's pressure is the bed law's times a factor drawn when the pressing starts
