@@ -20,6 +20,15 @@ std::vector<double> sieves_m() {
   for (double mm : flow_sieves_mm()) s.push_back(mm * 1e-3);
   return s;
 }
+// The breakage a fit recovered from PSDs made with `truth` (rms misfit of the passing under 0.05 %).
+void expect_breakage_recovered(const MaterialFit& m, const BreakageParams& truth) {
+  EXPECT_LT(m.psd_rms_pct, 0.05);
+  EXPECT_NEAR(m.material.breakage.s_c, truth.s_c, 0.01);
+  EXPECT_NEAR(m.material.breakage.m, truth.m, 0.05);
+  EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
+  EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
+  EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
+}
 }  // namespace
 
 TEST(PistonDieFit, PowerLawReproducesSyntheticCurveExactly) {
@@ -91,12 +100,7 @@ TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
   EXPECT_NEAR(m.material.modulus_Pa, 4e7, 1e-3 * 4e7);
   EXPECT_NEAR(m.material.exponent, 2.5, 1e-6);
   EXPECT_NEAR(m.material.max_compression, 0.5, 1e-12);  // the solid limit 1 - loose fraction, not the 0.3 reached
-  EXPECT_LT(m.psd_rms_pct, 0.05);
-  EXPECT_NEAR(m.material.breakage.s_c, truth.s_c, 0.01);
-  EXPECT_NEAR(m.material.breakage.m, truth.m, 0.05);
-  EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
-  EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
-  EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
+  expect_breakage_recovered(m, truth);
   EXPECT_EQ(m.material.breakage.x_resolved, 0.001);  // below it the documented size law (q_below), not a fit:
   EXPECT_NEAR(m.material.breakage.q_below, 0.45 / 2.5, 1e-6);  // the strength's size effect through p = E s^n
 }
@@ -140,12 +144,7 @@ TEST(PistonDieFit, PooledFitOfReplicatePouringsRecoversTheRockAndWeighsEveryPour
   EXPECT_NEAR(m.material.exponent, 2.5, 1e-6);
   EXPECT_NEAR(m.material.loose_fraction, 3.0 / (2.0 / 0.5 + 1.0 / 0.4), 1e-12);  // total mass / total loose volume
   EXPECT_NEAR(m.material.max_compression, 1.0 - m.material.loose_fraction, 1e-12);
-  EXPECT_LT(m.psd_rms_pct, 0.05);
-  EXPECT_NEAR(m.material.breakage.s_c, truth.s_c, 0.01);
-  EXPECT_NEAR(m.material.breakage.m, truth.m, 0.05);
-  EXPECT_NEAR(m.material.breakage.q, truth.q, 0.05);
-  EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
-  EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
+  expect_breakage_recovered(m, truth);
   EXPECT_NE(m.breakage_note.find("2 pourings"), std::string::npos) << m.breakage_note;
 
   // two beds of one law but other stiffness (as a stiff and a soft pouring): equal points each, so the log fit of
