@@ -284,7 +284,7 @@ int run_dem(const Args& a) {
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
   for (const auto& l : prov) std::printf("%s\n", l.c_str());
   std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",
-              r.loose_solid_fraction, m.material.modulus_Pa * 1e-6, m.material.exponent, m.pressure_fit.rms_log, m.material.rebound,
+              m.material.loose_fraction, m.material.modulus_Pa * 1e-6, m.material.exponent, m.pressure_fit.rms_log, m.material.rebound,
               m.material.max_compression);
   std::printf("breakage: s_c %.4f m %.4f q %.4f phi %.4f gamma %.4f beta %.4f (%s; rms %.2f %%)\n", m.material.breakage.s_c,
               m.material.breakage.m, m.material.breakage.q, m.material.breakage.phi, m.material.breakage.gamma, m.material.breakage.beta,
