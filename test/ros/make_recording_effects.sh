@@ -4,7 +4,8 @@
 # drive_efficiency under the flow load (the recorded power is the shaft's / efficiency: the same run's power over
 # 0.8); a chamber effect without --load flow and an unknown name are refused, naming what is accepted.
 # --set / --scale conceal a config value: the config's own value gives the same file byte for byte, a frame of
-# half the mass moves more, a stiffer flow material holds the motion lower; an unknown key is refused by name.
+# half the mass moves more, a stiffer flow material holds the motion lower (shipped rock, 1 s: x rms -8 % at 1.5x,
+# -28 % at 2x); an unknown key is refused by name.
 set -euo pipefail
 crusher=$CRUSHER_SOURCE_DIR/scripts/crusher
 cfg=$CRUSHER_SOURCE_DIR/launch_free_configs
@@ -29,9 +30,9 @@ cmp -s "$out/none.csv" "$out/same.csv" || { echo "FAIL: --set with the config's 
 rec --config "$cfg/gyp1200_400rpm_bed.yaml" --effect none --scale mbd.fixed_cone.mass_kg=0.5 --out "$out/light.csv"
 python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if b > 1.2 * a else 1)" "$(rms_x "$out/none.csv")" \
   "$(rms_x "$out/light.csv")" || { echo "FAIL: --scale mbd.fixed_cone.mass_kg=0.5 did not raise the motion by 20 %"; exit 1; }
-rec --config "$cfg/gyp1200_400rpm.yaml" --load flow --effect none --scale flow.material.pressure.modulus_MPa=1.5 --out "$out/stiff.csv"
+rec --config "$cfg/gyp1200_400rpm.yaml" --load flow --effect none --scale flow.material.pressure.modulus_MPa=2 --out "$out/stiff.csv"
 python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if b < 0.9 * a else 1)" "$(rms_x "$out/flow.csv")" \
-  "$(rms_x "$out/stiff.csv")" || { echo "FAIL: a 1.5x stiffer flow material did not hold the frame's motion 10 % lower"; exit 1; }
+  "$(rms_x "$out/stiff.csv")" || { echo "FAIL: a 2x stiffer flow material did not hold the frame's motion 10 % lower"; exit 1; }
 if msg=$(rec --config "$cfg/gyp1200_400rpm_bed.yaml" --effect none --set mbd.fixed_cone.mass=1 --out "$out/x.csv" 2>&1); then
   echo "FAIL: an unknown --set key was accepted"; exit 1; fi
 grep -q "mbd.fixed_cone.mass' is not in the config" <<<"$msg" || { echo "FAIL: unknown --set key message: $msg"; exit 1; }
