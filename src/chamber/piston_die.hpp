@@ -131,6 +131,9 @@ std::vector<double> breakage_event(const std::vector<double>& feed_passing, cons
 // The pressings' scatter (bed_scatter.hpp) from replicate pourings of the same test (seeds differ): each pouring's
 // peak pressure in the deepest loop all completed; N_eff of a die's bed from its feed by the flow model's size classes.
 double loop_peak_pressure(const PressLoop& L);                      // Pa
+// Each pouring's peak (Pa) at the deepest s_max every pouring completed (that s_max in *s_max); std::invalid_argument
+// if a pouring holds no loop or the pourings share no s_max.
+std::vector<double> common_depth_peaks(const std::vector<PistonDieResult>& pourings, double* s_max = nullptr);
 double die_effective_lumps(const PistonDieResult& r);
 // sigma_1 = relative std of the peaks x sqrt(mean N_eff); std::invalid_argument for fewer than two pourings.
 double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings);

@@ -187,15 +187,13 @@ std::vector<double> breakage_event(const std::vector<double>& P, const std::vect
   return cum;
 }
 
-MaterialFit fit_flow_material(const PistonDieResult& r) { return fit_flow_material(std::vector<PistonDieResult>{r}); }
+namespace {
 
-MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
-  if (pourings.empty()) throw std::invalid_argument("fit_flow_material: no pouring to fit");
-  std::vector<const PistonDieResult*> rs;
-  for (const auto& r : pourings) {
-    if (r.loops.empty()) throw std::invalid_argument("fit_flow_material: a pouring holds no load-unload loop");
-    rs.push_back(&r);
-  }
+// The fit of one or more pourings together (see piston_die.hpp).
+MaterialFit fit_pourings(const std::vector<const PistonDieResult*>& rs) {
+  if (rs.empty()) throw std::invalid_argument("fit_flow_material: no pouring to fit");
+  for (const auto* r : rs)
+    if (r->loops.empty()) throw std::invalid_argument("fit_flow_material: a pouring holds no load-unload loop");
   MaterialFit m;
   auto& mat = m.material;
   mat.solid_density = rs.front()->solid_density;
@@ -227,6 +225,16 @@ MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
   return m;
 }
 
+}  // namespace
+
+MaterialFit fit_flow_material(const PistonDieResult& r) { return fit_pourings({&r}); }
+
+MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
+  std::vector<const PistonDieResult*> rs;
+  for (const auto& r : pourings) rs.push_back(&r);
+  return fit_pourings(rs);
+}
+
 double loop_peak_pressure(const PressLoop& L) {
   double peak = 0;
   for (double p : L.p) peak = std::max(peak, p);
@@ -248,27 +256,32 @@ double die_effective_lumps(const PistonDieResult& r) {
   return effective_lumps(kg.data(), lump);
 }
 
-double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings) {
+std::vector<double> common_depth_peaks(const std::vector<PistonDieResult>& pourings, double* s_max) {
   // the deepest s_max every pouring completed (one that blew up deeper kept its shallower loops)
   double common = 1e300;
   for (const auto& r : pourings) {
-    if (r.loops.empty()) throw std::invalid_argument("lump_std_of_pourings: a pouring holds no load-unload loop");
+    if (r.loops.empty()) throw std::invalid_argument("common_depth_peaks: a pouring holds no load-unload loop");
     double deepest = 0.0;
     for (const auto& L : r.loops) deepest = std::max(deepest, L.s_max);
     common = std::min(common, deepest);
   }
   std::vector<double> peaks;
-  double n_eff = 0;
   for (const auto& r : pourings) {
     const PressLoop* deep = nullptr;
     for (const auto& L : r.loops)
       if (L.s_max <= common && (!deep || L.s_max > deep->s_max)) deep = &L;
     if (!deep || deep->s_max != common)
-      throw std::invalid_argument("lump_std_of_pourings: the pourings were not pressed to the same s_max");
+      throw std::invalid_argument("common_depth_peaks: the pourings were not pressed to the same s_max");
     peaks.push_back(loop_peak_pressure(*deep));
-    n_eff += die_effective_lumps(r) / double(pourings.size());
   }
-  return lump_std_from_replicates(peaks, n_eff);
+  if (s_max) *s_max = pourings.empty() ? 0.0 : common;
+  return peaks;
+}
+
+double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings) {
+  double n_eff = 0;
+  for (const auto& r : pourings) n_eff += die_effective_lumps(r) / double(pourings.size());
+  return lump_std_from_replicates(common_depth_peaks(pourings), n_eff);
 }
 
 std::vector<LabPoint> read_lab_csv(const std::string& file) {

@@ -120,7 +120,7 @@ std::string f(const char* fmt, double x) {
   return b;
 }
 
-// The values a fit gives, by name (piston_die_fits.csv's columns after pouring,seed,dt_safety).
+// The values a fit gives, by name (piston_die_fits.csv's columns after pouring,seed,loops).
 std::vector<std::pair<std::string, double>> fitted_values(const chamber::MaterialFit& m) {
   const auto& x = m.material;
   const auto& b = x.breakage;
@@ -138,30 +138,32 @@ std::vector<std::string> write_pouring_fits(const std::string& file, unsigned lo
                                             const std::vector<chamber::PistonDieResult>& pourings,
                                             const std::vector<chamber::MaterialFit>& each,
                                             const chamber::MaterialFit& pooled) {
+  const auto pooled_values = fitted_values(pooled);
+  std::vector<std::vector<std::pair<std::string, double>>> rows;
+  for (const auto& e : each) rows.push_back(fitted_values(e));
   std::ofstream csv(file);
   csv << "pouring,seed,loops";
-  for (const auto& [name, v] : fitted_values(pooled)) csv << "," << name;
+  for (const auto& [name, v] : pooled_values) csv << "," << name;
   csv << "\n";
-  for (std::size_t i = 0; i < each.size(); ++i) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
     csv << i << "," << seed0 + i << "," << pourings[i].loops.size();
-    for (const auto& [name, v] : fitted_values(each[i])) csv << "," << f("%.6g", v);
+    for (const auto& [name, v] : rows[i]) csv << "," << f("%.6g", v);
     csv << "\n";
   }
   csv << "pooled,,";
-  for (const auto& [name, v] : fitted_values(pooled)) csv << "," << f("%.6g", v);
+  for (const auto& [name, v] : pooled_values) csv << "," << f("%.6g", v);
   csv << "\n";
   std::vector<std::string> lines{"pooled fit of " + std::to_string(pourings.size()) +
                                  " pourings; each value: pooled (the pourings' own fits: mean +- sample std, min-max)"};
-  const auto names = fitted_values(pooled);
-  for (std::size_t k = 0; k < names.size(); ++k) {
+  for (std::size_t k = 0; k < pooled_values.size(); ++k) {
     double mean = 0, var = 0, lo = 1e300, hi = -1e300;
-    for (const auto& e : each) {
-      const double v = fitted_values(e)[k].second;
-      mean += v / each.size(), lo = std::min(lo, v), hi = std::max(hi, v);
+    for (const auto& row : rows) {
+      const double v = row[k].second;
+      mean += v / rows.size(), lo = std::min(lo, v), hi = std::max(hi, v);
     }
-    for (const auto& e : each) var += std::pow(fitted_values(e)[k].second - mean, 2) / (each.size() - 1);
-    lines.push_back("  " + names[k].first + " " + f("%.4g", names[k].second) + " (" + f("%.4g", mean) + " +- " +
-                    f("%.3g", std::sqrt(var)) + ", " + f("%.4g", lo) + "-" + f("%.4g", hi) + ")");
+    for (const auto& row : rows) var += std::pow(row[k].second - mean, 2) / (rows.size() - 1);
+    lines.push_back("  " + pooled_values[k].first + " " + f("%.4g", pooled_values[k].second) + " (" + f("%.4g", mean) +
+                    " +- " + f("%.3g", std::sqrt(var)) + ", " + f("%.4g", lo) + "-" + f("%.4g", hi) + ")");
   }
   return lines;
 }
@@ -224,10 +226,11 @@ int run_dem(const Args& a) {
     for (const auto& q : pourings) each.push_back(chamber::fit_flow_material(q));
     spread = write_pouring_fits(a.out + "/piston_die_fits.csv", a.seed, pourings, each, m);
     m.material.lump_std = chamber::lump_std_of_pourings(pourings);
+    double s_common = 0.0;
+    const auto peaks = chamber::common_depth_peaks(pourings, &s_common);
     scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds " + std::to_string(a.seed) + "-" +
-              std::to_string(o.seed) + "), the deepest common loop's peak";
-    for (const auto& q : pourings)
-      scatter += " " + f("%.4f", chamber::loop_peak_pressure(q.loops.back()) * 1e-6);
+              std::to_string(o.seed) + "), peaks at s_max " + f("%.2f", s_common) + " (the deepest all completed)";
+    for (double p : peaks) scatter += " " + f("%.4f", p * 1e-6);
     scatter += " MPa, N_eff of the first " + f("%.2f", chamber::die_effective_lumps(r)) + ": lump_std " + f("%.4f", m.material.lump_std);
     for (std::size_t i = 0; i < pourings.size(); ++i)
       if (!pourings[i].blowup.empty())

@@ -136,6 +136,9 @@ TEST(BedScatter, LumpStdFromReplicatePressings) {
   chamber::PressLoop deeper;
   deeper.s_max = 0.42, deeper.p = {0.3e6, 9e6, 0.5e6};
   pourings[1].loops.push_back(deeper);
+  double s_common = 0;
+  EXPECT_EQ(chamber::common_depth_peaks(pourings, &s_common), std::vector<double>(peaks, peaks + 3));
+  EXPECT_EQ(s_common, 0.3);
   EXPECT_NEAR(chamber::lump_std_of_pourings(pourings), 0.2 * std::sqrt(n), 1e-9);
   pourings[2].loops.erase(pourings[2].loops.begin() + 1);  // pressed to 0.15 only: compared at 0.15, all peaks 5 MPa
   EXPECT_NEAR(chamber::lump_std_of_pourings(pourings), 0.0, 1e-12);
