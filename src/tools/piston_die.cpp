@@ -124,8 +124,9 @@ std::string f(const char* fmt, double x) {
 std::vector<std::pair<std::string, double>> fitted_values(const chamber::MaterialFit& m) {
   const auto& x = m.material;
   const auto& b = x.breakage;
-  // s_c at the smallest resolved class's lower bound: what the product below it hinges on (src/chamber/README.md)
-  const double s_c_resolved = b.s_c * std::pow(b.x_resolved / b.x_ref, -b.q);
+  // s_c at the smallest resolved class's lower bound: what the product below it hinges on (src/chamber/README.md);
+  // NaN where no size was resolved (breakage not fitted)
+  const double s_c_resolved = b.x_resolved > 0 ? b.s_c * std::pow(b.x_resolved / b.x_ref, -b.q) : std::nan("");
   return {{"loose_solid_fraction", x.loose_fraction}, {"modulus_MPa", x.modulus_Pa * 1e-6}, {"exponent", x.exponent},
           {"rms_ln_p", m.pressure_fit.rms_log},       {"rebound", x.rebound},              {"s_c", b.s_c},
           {"m", b.m},                                 {"q", b.q},                          {"phi", b.phi},
