@@ -157,7 +157,7 @@ std::vector<std::string> write_pouring_fits(const std::string& file, unsigned lo
   std::vector<std::string> lines{"pooled fit of " + std::to_string(pourings.size()) +
                                  " pourings; each value: pooled (the pourings' own fits: mean +- sample std, min-max)"};
   for (std::size_t k = 0; k < pooled_values.size(); ++k) {
-    double mean = 0, var = 0, lo = 1e300, hi = -1e300;
+    double mean = 0, var = 0, lo = rows.front()[k].second, hi = lo;  // a NaN stays NaN
     for (const auto& row : rows) {
       const double v = row[k].second;
       mean += v / rows.size(), lo = std::min(lo, v), hi = std::max(hi, v);
