@@ -149,6 +149,8 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   o.validate();
   const auto t0 = Clock::now();
   PistonDieResult res;
+  res.seed = o.seed;
+  res.rock_min = o.rock_min, res.rock_max = o.rock_max, res.piston_speed = o.piston_speed;
   const double R = 0.5 * o.die_diameter;
   res.die_diameter = o.die_diameter;
   res.die_area = M_PI * R * R;

@@ -86,9 +86,12 @@ struct PressLoop {
 };
 
 struct PistonDieResult {
+  unsigned long long seed = 0;       // the pouring's (PistonDieOptions::seed)
   int rocks = 0;
   std::size_t particles = 0, bonds = 0;
   double die_diameter = 0.0, die_area = 0.0;  // m, m^2 (pi D^2 / 4)
+  double rock_min = 0.0, rock_max = 0.0;      // m, the poured rocks' nominal sizes (options)
+  double piston_speed = 0.0;                  // m/s (options)
   double bed_height = 0.0;           // m, H0
   double rock_mass = 0.0;            // kg
   double solid_density = 0.0;        // kg/m^3

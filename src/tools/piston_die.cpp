@@ -1,11 +1,14 @@
 // piston_die: virtual piston-die test on the calibrated bonded-particle rock (or a plant's lab results) and the
 // chamber flow model's material parameters fitted from it (src/chamber/piston_die.hpp).
-//   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--lab CSV]
+//   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--replicates K] [--lab CSV]
+//   piston_die --out DIR --pool DIR1,DIR2,...      (the pourings of earlier runs fitted together, no DEM)
 // Writes DIR/piston_die.csv (s_max,phase,s,p_MPa), DIR/psd.csv (s_max,sieve_mm,passing_pct; s_max "feed" for the
-// feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml, with --replicates K
+// feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml, DIR/piston_die_pourings.txt
+// (every pouring in full, piston_die_record.hpp: what --pool reads), with two or more pourings
 // DIR/piston_die_pourings.csv (every pouring's loops: pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa),
-// DIR/piston_die_fits.csv (each pouring's own fit and the pooled one, which flow_material.yaml holds) and, through
-// plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
+// DIR/piston_die_fits.csv (each pouring's own fit, the pooled one, which flow_material.yaml holds, and with three or
+// more the jackknife's: the pooled fit without each pouring, also as DIR/jackknife/flow_material_without_seed<S>.yaml,
+// which `crusher validate --rock-spread DIR` reads) and, through plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,7 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/jackknife.hpp"
 #include "chamber/piston_die.hpp"
+#include "chamber/piston_die_record.hpp"
 #include "core/cli_args.hpp"
 #include "core/openmp_wait.hpp"
 #include "core/run_program.hpp"
@@ -29,6 +34,7 @@ namespace {
 
 struct Args {
   std::string out, bpm, lab, command;
+  std::vector<std::string> pool;  // --pool: run folders whose piston_die_pourings.txt are fitted together
   bool quick = false;
   double speed = 0;  // m/s, 0: the default
   int threads = 1;
@@ -42,10 +48,12 @@ struct Args {
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV]\n  --replicates K: K pourings "
-    "(seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's own fit in "
-    "piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up keeps "
-    "the loops it completed\n  --lab CSV: a laboratory piston-die file (columns "
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV] [--pool DIR1,DIR2,...]\n"
+    "  --replicates K: K pourings (seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's "
+    "own fit in piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up "
+    "keeps the loops it completed; with K >= 3 the jackknife (the pooled fit without each pouring)\n"
+    "  --pool DIR1,DIR2,...: no DEM; the pourings recorded in each DIR/piston_die_pourings.txt (earlier runs of this "
+    "program, the same die) fitted together as --replicates does\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
 
 [[noreturn]] void usage(const std::string& why) {
@@ -63,6 +71,13 @@ Args parse(int argc, char** argv) {
       if (s == "--out") a.out = args.value();
       else if (s == "--bpm") a.bpm = args.value();
       else if (s == "--lab") a.lab = args.value();
+      else if (s == "--pool") {
+        std::stringstream list(args.value());
+        for (std::string item; std::getline(list, item, ',');) {
+          if (item.empty()) usage("--pool takes run folders separated by commas, got an empty one");
+          a.pool.push_back(item);
+        }
+      }
       else if (s == "--quick") a.quick = true;
       else if (s == "--speed-m-s") {
         const std::string v = args.value();
@@ -96,7 +111,7 @@ Args parse(int argc, char** argv) {
         std::exit(0);
       } else {
         usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
-              "--die-mm, --ratios, --speed-m-s, --replicates, --lab)");
+              "--die-mm, --ratios, --speed-m-s, --replicates, --lab, --pool)");
       }
     }
   } catch (const std::invalid_argument& e) {
@@ -105,6 +120,10 @@ Args parse(int argc, char** argv) {
   if (a.out.empty()) usage("--out DIR is required");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty() || a.replicates > 1))
     usage("--lab fits lab data: --quick, --bpm and --replicates do not apply");
+  if (!a.pool.empty() && (!a.lab.empty() || a.quick || !a.bpm.empty() || a.replicates > 1 || a.rocks > 0 ||
+                          a.die_mm > 0 || !a.ratios.empty() || a.speed > 0))
+    usage("--pool fits recorded pourings: --lab, --quick, --bpm, --replicates, --rocks, --die-mm, --ratios and "
+          "--speed-m-s do not apply");
   return a;
 }
 
@@ -133,38 +152,47 @@ std::vector<std::pair<std::string, double>> fitted_values(const chamber::Materia
           {"gamma", b.gamma},                         {"s_c_at_resolved", s_c_resolved},   {"psd_rms_pct", m.psd_rms_pct}};
 }
 
-// Writes every pouring's own fit and the pooled one (pouring "pooled"); returns one line per value: pooled, mean
-// and sample std of the pourings' own fits, min-max.
-std::vector<std::string> write_pouring_fits(const std::string& file, unsigned long long seed0,
-                                            const std::vector<chamber::PistonDieResult>& pourings,
+// Writes every pouring's own fit, the pooled one (pouring "pooled") and the jackknife's (pouring "without", seed the one
+// left out); returns one line per value: pooled, mean and sample std of the pourings' own fits, min-max, and with the
+// jackknife its standard error sqrt((K - 1) / K sum (x_(i) - mean)^2).
+std::vector<std::string> write_pouring_fits(const std::string& file, const std::vector<chamber::PistonDieResult>& pourings,
                                             const std::vector<chamber::MaterialFit>& each,
+                                            const std::vector<chamber::MaterialFit>& jack,
                                             const chamber::MaterialFit& pooled) {
   const auto pooled_values = fitted_values(pooled);
-  std::vector<std::vector<std::pair<std::string, double>>> rows;
+  std::vector<std::vector<std::pair<std::string, double>>> rows, jrows;
   for (const auto& e : each) rows.push_back(fitted_values(e));
+  for (const auto& e : jack) jrows.push_back(fitted_values(e));
   std::ofstream csv(file);
   csv << "pouring,seed,loops";
   for (const auto& [name, v] : pooled_values) csv << "," << name;
   csv << "\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    csv << i << "," << seed0 + i << "," << pourings[i].loops.size();
+    csv << i << "," << pourings[i].seed << "," << pourings[i].loops.size();
     for (const auto& [name, v] : rows[i]) csv << "," << f("%.6g", v);
     csv << "\n";
   }
   csv << "pooled,,";
   for (const auto& [name, v] : pooled_values) csv << "," << f("%.6g", v);
   csv << "\n";
+  for (std::size_t i = 0; i < jrows.size(); ++i) {
+    csv << "without," << pourings[i].seed << ",";
+    for (const auto& [name, v] : jrows[i]) csv << "," << f("%.6g", v);
+    csv << "\n";
+  }
   std::vector<std::string> lines{"pooled fit of " + std::to_string(pourings.size()) +
-                                 " pourings; each value: pooled (the pourings' own fits: mean +- sample std, min-max)"};
+                                 " pourings; each value: pooled (the pourings' own fits: mean +- sample std, min-max" +
+                                 (jack.empty() ? ")" : "; the pooled value's jackknife standard error)")};
   for (std::size_t k = 0; k < pooled_values.size(); ++k) {
-    double mean = 0, var = 0, lo = rows.front()[k].second, hi = lo;  // a NaN stays NaN
-    for (const auto& row : rows) {
-      const double v = row[k].second;
-      mean += v / rows.size(), lo = std::min(lo, v), hi = std::max(hi, v);
-    }
-    for (const auto& row : rows) var += std::pow(row[k].second - mean, 2) / (rows.size() - 1);
+    std::vector<double> own, loo;
+    for (const auto& row : rows) own.push_back(row[k].second);
+    for (const auto& row : jrows) loo.push_back(row[k].second);
+    double mean = 0, var = 0, lo = own.front(), hi = lo;  // a NaN stays NaN
+    for (double v : own) mean += v / own.size(), lo = std::min(lo, v), hi = std::max(hi, v);
+    for (double v : own) var += std::pow(v - mean, 2) / (own.size() - 1);
     lines.push_back("  " + pooled_values[k].first + " " + f("%.4g", pooled_values[k].second) + " (" + f("%.4g", mean) +
-                    " +- " + f("%.3g", std::sqrt(var)) + ", " + f("%.4g", lo) + "-" + f("%.4g", hi) + ")");
+                    " +- " + f("%.3g", std::sqrt(var)) + ", " + f("%.4g", lo) + "-" + f("%.4g", hi) +
+                    (loo.empty() ? "" : "; +- " + f("%.3g", analysis::jackknife_std(loo))) + ")");
   }
   return lines;
 }
@@ -186,7 +214,8 @@ int run_lab(const Args& a) {
   return 0;
 }
 
-int run_dem(const Args& a) {
+// The DEM test: one pouring, or --replicates K of them (seeds a.seed ...).
+std::vector<chamber::PistonDieResult> run_dem(const Args& a, std::string& source) {
   const std::string bpm_file = a.bpm.empty() ? find_file("launch_free_configs/bpm_calibrated.yaml") : a.bpm;
   if (bpm_file.empty() || !fs::exists(bpm_file))
     usage("--bpm: file '" + (bpm_file.empty() ? std::string("launch_free_configs/bpm_calibrated.yaml") : bpm_file) +
@@ -217,26 +246,77 @@ int run_dem(const Args& a) {
     pourings.push_back(chamber::run_piston_die(bpm, o));
     if (!pourings.back().blowup.empty())
       std::fprintf(stderr, "piston_die: pouring %d (seed %llu): %s\n", i, o.seed, pourings.back().blowup.c_str());
+    chamber::write_pourings(pourings, a.out + "/piston_die_pourings.txt");  // each pouring kept as soon as it is done
   }
+  source = "virtual piston-die test (src/chamber/piston_die.cpp) on the BPM " + bpm_file + (a.quick ? " (--quick)" : "");
+  return pourings;
+}
+
+// --pool: the recorded pourings of earlier runs; one die and one rock only, each seed once.
+std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& source) {
+  std::vector<chamber::PistonDieResult> pourings;
+  source = "pourings recorded by earlier runs, fitted together (--pool):";
+  for (const auto& dir : a.pool) {
+    const auto more = chamber::read_pourings(dir + "/piston_die_pourings.txt");
+    source += " " + dir + " (seeds";
+    for (const auto& r : more) source += " " + std::to_string(r.seed);
+    source += ")";
+    pourings.insert(pourings.end(), more.begin(), more.end());
+  }
+  const auto& r0 = pourings.front();
+  for (std::size_t i = 0; i < pourings.size(); ++i) {
+    const auto& r = pourings[i];
+    if (std::abs(r.die_diameter - r0.die_diameter) > 1e-9 || std::abs(r.solid_density - r0.solid_density) > 1e-9 ||
+        std::abs(r.min_resolved - r0.min_resolved) > 1e-12 || std::abs(r.rock_min - r0.rock_min) > 1e-12 ||
+        std::abs(r.rock_max - r0.rock_max) > 1e-12)
+      usage("--pool: pouring seed " + std::to_string(r.seed) + " is of another test (die " +
+            f("%.1f", r.die_diameter * 1e3) + " mm, rocks " + f("%.1f", r.rock_min * 1e3) + "-" +
+            f("%.1f", r.rock_max * 1e3) + " mm) than seed " + std::to_string(r0.seed) + "'s (die " +
+            f("%.1f", r0.die_diameter * 1e3) + " mm, rocks " + f("%.1f", r0.rock_min * 1e3) + "-" +
+            f("%.1f", r0.rock_max * 1e3) + " mm): only pourings of one die and rock are pooled");
+    for (std::size_t j = 0; j < i; ++j)
+      if (pourings[j].seed == r.seed)
+        usage("--pool: seed " + std::to_string(r.seed) + " is recorded twice (a pouring counted twice would weigh "
+              "double); pool folders of different seeds");
+  }
+  return pourings;
+}
+
+// The pooled fit of the pourings and every output file.
+int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& pourings, const std::string& source) {
   const chamber::PistonDieResult& r = pourings.front();
   chamber::MaterialFit m = chamber::fit_flow_material(pourings);  // pooled over the pourings
   std::string scatter;
   std::vector<std::string> spread;
   if (pourings.size() > 1) {
-    std::vector<chamber::MaterialFit> each;
+    std::vector<chamber::MaterialFit> each, jack;
     for (const auto& q : pourings) each.push_back(chamber::fit_flow_material(q));
-    spread = write_pouring_fits(a.out + "/piston_die_fits.csv", a.seed, pourings, each, m);
+    if (pourings.size() >= 3) jack = chamber::leave_one_out_fits(pourings);
+    spread = write_pouring_fits(a.out + "/piston_die_fits.csv", pourings, each, jack, m);
     m.material.lump_std = chamber::lump_std_of_pourings(pourings);
     double s_common = 0.0;
     const auto peaks = chamber::common_depth_peaks(pourings, &s_common);
-    scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds " + std::to_string(a.seed) + "-" +
-              std::to_string(o.seed) + "), peaks at s_max " + f("%.2f", s_common) + " (the deepest all completed)";
+    scatter = "scatter: " + std::to_string(pourings.size()) + " pourings (seeds";
+    for (const auto& q : pourings) scatter += " " + std::to_string(q.seed);
+    scatter += "), peaks at s_max " + f("%.2f", s_common) + " (the deepest all completed)";
     for (double p : peaks) scatter += " " + f("%.4f", p * 1e-6);
     scatter += " MPa, N_eff of the first " + f("%.2f", chamber::die_effective_lumps(r)) + ": lump_std " + f("%.4f", m.material.lump_std);
     for (std::size_t i = 0; i < pourings.size(); ++i)
       if (!pourings[i].blowup.empty())
         scatter += "; pouring " + std::to_string(i) + " " + pourings[i].blowup.substr(0, pourings[i].blowup.find(':')) +
                    ", its completed loops kept";
+    if (!jack.empty()) {
+      fs::create_directories(a.out + "/jackknife");
+      for (std::size_t i = 0; i < jack.size(); ++i) {
+        auto J = jack[i];
+        J.material.lump_std = m.material.lump_std;  // the scatter is the whole sample's, not refitted
+        chamber::write_flow_material_yaml(
+            J, a.out + "/jackknife/flow_material_without_seed" + std::to_string(pourings[i].seed) + ".yaml",
+            {"written by: " + a.command, "the jackknife of " + a.out + "/flow_material.yaml: the pooled fit of its " +
+                                             std::to_string(pourings.size()) + " pourings without seed " +
+                                             std::to_string(pourings[i].seed)});
+      }
+    }
   }
 
   std::ofstream csv(a.out + "/piston_die.csv");
@@ -251,9 +331,11 @@ int run_dem(const Args& a) {
     for (std::size_t i = 0; i < pourings.size(); ++i)
       for (const auto& L : pourings[i].loops)
         for (std::size_t k = 0; k < L.s.size(); ++k)
-          all << i << "," << a.seed + i << "," << f("%.6g", pourings[i].loose_solid_fraction) << "," << L.s_max << ","
-              << (L.phase[k] ? "unload" : "load") << "," << f("%.6g", L.s[k]) << "," << f("%.6g", L.p[k] * 1e-6) << "\n";
+          all << i << "," << pourings[i].seed << "," << f("%.6g", pourings[i].loose_solid_fraction) << "," << L.s_max
+              << "," << (L.phase[k] ? "unload" : "load") << "," << f("%.6g", L.s[k]) << "," << f("%.6g", L.p[k] * 1e-6)
+              << "\n";
   }
+  if (!a.pool.empty()) chamber::write_pourings(pourings, a.out + "/piston_die_pourings.txt");  // the pool, for a later one
   const auto& sv = chamber::flow_sieves_mm();
   std::ofstream psd(a.out + "/psd.csv"), fit(a.out + "/psd_fit.csv");
   psd << "s_max,sieve_mm,passing_pct\n";
@@ -269,13 +351,12 @@ int run_dem(const Args& a) {
     }
   }
   std::vector<std::string> prov{
-      "written by: " + a.command,
-      "virtual piston-die test (src/chamber/piston_die.cpp) on the BPM " + bpm_file + (a.quick ? " (--quick)" : ""),
-      std::to_string(r.rocks) + " rocks " + f("%.1f", o.rock_min * 1e3) + "-" + f("%.1f", o.rock_max * 1e3) +
+      "written by: " + a.command, source,
+      std::to_string(r.rocks) + " rocks " + f("%.1f", r.rock_min * 1e3) + "-" + f("%.1f", r.rock_max * 1e3) +
           " mm, " + std::to_string(r.particles) + " particles, " + std::to_string(r.bonds) + " bonds, rock mass " +
           f("%.4f", r.rock_mass) + " kg",
       "die " + f("%.1f", r.die_diameter * 1e3) + " mm diameter, loose bed height " + f("%.2f", r.bed_height * 1e3) +
-          " mm, piston " + f("%.3g", o.piston_speed) + " m/s, dt " + f("%.3g", r.dt) + " s, settled " +
+          " mm, piston " + f("%.3g", r.piston_speed) + " m/s, dt " + f("%.3g", r.dt) + " s, settled " +
           f("%.3f", r.settle_time) + " s, wall " + f("%.0f", r.wall_s) + " s"};
   for (const auto& L : r.loops)
     prov.push_back("s_max " + f("%.2f", L.s_max) + ": reached " + f("%.4f", L.s_reached) + ", peak " +
@@ -303,7 +384,14 @@ int main(int argc, char** argv) {
   const Args a = parse(argc, argv);
   try {
     fs::create_directories(a.out);
-    const int rc = a.lab.empty() ? run_dem(a) : run_lab(a);
+    int rc = 0;
+    if (!a.lab.empty()) {
+      rc = run_lab(a);
+    } else {
+      std::string source;
+      const auto pourings = a.pool.empty() ? run_dem(a, source) : read_pool(a, source);
+      rc = fit_and_write(a, pourings, source);
+    }
     core::run_plot_script("piston_die", "plot_piston_die.py", a.out);
     return rc;
   } catch (const std::invalid_argument& e) {

@@ -3,12 +3,19 @@
 // and std of amplitude and power, throughput and specific energy, plus P80, the product index and wall time; which
 // values were calibrated (400 rpm only), the trends of the paper's section 4.3. Writes DIR/validation.json.
 //   validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]
+//            [--rock-spread DIR]
+// --rock-spread DIR: the rock's sampling error of our figures: for each jackknife material of a piston-die run
+// (DIR/jackknife/flow_material_without_seed*.yaml, `crusher calibrate --piston-die --replicates K`, K >= 3) the machine
+// is recalibrated at 400 rpm as `crusher calibrate --flow` does and both speeds rerun; each figure's jackknife standard
+// error over the pourings (analysis/jackknife.hpp) is printed and written to validation.json (rock_spread).
 // (--seconds, the window after the settle, and --settle default to each config's run.duration_s - settle_s and
 // run.settle_s, the run `crusher run CONFIG` makes)
 // A report: exit 0 when both runs ran, whatever the errors.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -18,7 +25,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/flow_calibration.hpp"
 #include "analysis/flow_run.hpp"
+#include "analysis/jackknife.hpp"
 #include "chamber/flow_config.hpp"
 #include "core/cli_args.hpp"
 #include "core/run_config.hpp"
@@ -100,14 +109,57 @@ std::string pct(double ours, double ref) {
 }
 double err(double ours, double ref) { return std::isfinite(ours) && std::isfinite(ref) ? ours / ref - 1 : NAN; }
 
+std::vector<std::string> jackknife_materials(const std::string& dir) {
+  std::vector<std::string> files;
+  namespace fs = std::filesystem;
+  const fs::path j = fs::path(dir) / "jackknife";
+  if (!fs::is_directory(j)) return files;
+  for (const auto& e : fs::directory_iterator(j)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("flow_material_without_seed", 0) == 0 && e.path().extension() == ".yaml") files.push_back(e.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// One jackknife material: the machine recalibrated at 400 rpm with it (as `crusher calibrate --flow`: 60 evaluations
+// of 4 s after a 4 s settle), then both speeds run as the main table's.
+struct SpreadCase {
+  std::string file;
+  analysis::FlowCalibration cal;
+  std::map<std::string, double> v400, v600;
+};
+SpreadCase run_spread_case(const std::string& file, const std::string& c400, const std::string& c600, double seconds,
+                           double settle) {
+  auto cfg4 = chamber::load_flow_run_config(c400);
+  auto cfg6 = chamber::load_flow_run_config(c600);
+  chamber::FlowMaterial m = chamber::load_flow_material(file);
+  m.lump_std = cfg4.flow.material.lump_std;  // the scatter as the shipped config has it (off or on)
+  cfg4.flow.material = m, cfg6.flow.material = m;
+  SpreadCase c;
+  c.file = file;
+  analysis::FlowRunOptions cal_o;
+  cal_o.duration_s = 4, cal_o.settle_s = 4;
+  c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, cal_o, 60);
+  analysis::FlowRunOptions o;
+  o.settle_s = settle < 0 ? cfg4.run.settle_s : settle;
+  o.duration_s = seconds > 0 ? seconds : cfg4.run.duration_s - o.settle_s;
+  c.v400 = analysis::table5_values(analysis::run_flow(c.cal.mech, cfg4.flow, o));
+  o.settle_s = settle < 0 ? cfg6.run.settle_s : settle;
+  o.duration_s = seconds > 0 ? seconds : cfg6.run.duration_s - o.settle_s;
+  c.v600 = analysis::table5_values(analysis::run_flow(analysis::apply_flow_unknowns(cfg6.mech, c.cal.x), cfg6.flow, o));
+  return c;
+}
+
 void usage() {
-  std::cerr << "usage: validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S]\n";
+  std::cerr << "usage: validate --config400 FILE --config600 FILE --out DIR [--load flow|bed] [--seconds S] [--settle S] "
+               "[--rock-spread DIR]\n";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string c400, c600, out, load = "flow";
+  std::string c400, c600, out, load = "flow", rock_dir;
   double seconds = 0, settle = -1;  // the configs' run.duration_s and run.settle_s unless given
   try {
     core::CliArgs args(argc, argv);
@@ -120,6 +172,7 @@ int main(int argc, char** argv) {
       else if (a == "--load") load = args.value();
       else if (a == "--seconds") seconds = args.number(0.1, 1e4);
       else if (a == "--settle") settle = args.number(0, 1e4);
+      else if (a == "--rock-spread") rock_dir = args.value();
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
     if (c400.empty() || c600.empty() || out.empty())
@@ -132,6 +185,35 @@ int main(int argc, char** argv) {
   if (load != "flow" && load != "bed") {
     std::cerr << "validate: --load '" << load << "' is not accepted; accepted: flow, bed\n";
     return 2;
+  }
+  std::vector<std::string> jack_files;
+  if (!rock_dir.empty()) {
+    if (load != "flow") {
+      std::cerr << "validate: --rock-spread applies to the flow load (the rock's material is the flow model's)\n";
+      return 2;
+    }
+    jack_files = jackknife_materials(rock_dir);
+    // The jackknife is of the folder's pooled material: warn when the config's rock is not that one.
+    try {
+      const auto pooled = chamber::load_flow_material(rock_dir + "/flow_material.yaml");
+      const auto shipped = chamber::load_flow_run_config(c400).flow.material;
+      auto differs = [](double a, double b) { return std::fabs(a - b) > 1e-3 * std::max(std::fabs(a), std::fabs(b)); };
+      if (differs(pooled.modulus_Pa, shipped.modulus_Pa) || differs(pooled.exponent, shipped.exponent) ||
+          differs(pooled.loose_fraction, shipped.loose_fraction))
+        std::fprintf(stderr, "validate: warning: %s/flow_material.yaml (E %.4g MPa, n %.4g, loose %.4g) is not the "
+                     "config's rock (E %.4g MPa, n %.4g, loose %.4g): the spread is that of another estimate\n",
+                     rock_dir.c_str(), pooled.modulus_Pa * 1e-6, pooled.exponent, pooled.loose_fraction,
+                     shipped.modulus_Pa * 1e-6, shipped.exponent, shipped.loose_fraction);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "validate: warning: --rock-spread %s: its pooled material not compared (%s)\n",
+                   rock_dir.c_str(), e.what());
+    }
+    if (jack_files.size() < 3) {
+      std::cerr << "validate: --rock-spread " << rock_dir << ": " << jack_files.size()
+                << " jackknife materials (jackknife/flow_material_without_seed*.yaml); at least 3 are needed: run "
+                   "`crusher calibrate --piston-die --replicates K` with K >= 3 (or --pool) into that folder\n";
+      return 2;
+    }
   }
   Case a, b;
   double settle_used = settle;
@@ -181,6 +263,46 @@ int main(int argc, char** argv) {
   }
   std::printf("\nwall time %.1f s for both speeds (%.0f simulated s each)\n", wall, a.simulated_s);
 
+  // The rock's sampling: each figure's jackknife standard error over the pourings.
+  std::vector<SpreadCase> spread;
+  std::map<std::string, double> jstd400, jstd600;
+  double spread_wall = 0;
+  if (!jack_files.empty()) {
+    const auto t1 = std::chrono::steady_clock::now();
+    try {
+      for (const auto& f : jack_files) {
+        spread.push_back(run_spread_case(f, c400, c600, seconds, settle));
+        const auto& c = spread.back();
+        std::printf("rock spread: %s: recalibrated (cost %.3g) static moment %.2f kg m, discharge %+.2f mm, feed "
+                    "%+.2f mm -> 400: %.2f mm, %.1f kW, %.1f t/h; 600: %.2f mm, %.1f kW, %.1f t/h, %.2f kWh/t\n",
+                    std::filesystem::path(f).filename().c_str(), c.cal.cost, c.cal.x[0], c.cal.x[1], c.cal.x[2],
+                    c.v400.at("amplitude_x_mm_mean"), c.v400.at("power_kW_mean"), c.v400.at("throughput_tph"),
+                    c.v600.at("amplitude_x_mm_mean"), c.v600.at("power_kW_mean"), c.v600.at("throughput_tph"),
+                    c.v600.at("specific_energy_kWh_per_t"));
+      }
+    } catch (const std::exception& e) {  // the main table stands; the spread is reported as not computed
+      std::fprintf(stderr, "validate: --rock-spread: %s\n", e.what());
+      spread.clear();
+    }
+    spread_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  }
+  if (!spread.empty()) {
+    std::printf("the rock's sampling (jackknife over the %zu pourings of %s; recalibrated at 400 rpm each, %.0f s): "
+                "ours +- jackknife standard error (the plant within 2 of them: yes or no)\n", spread.size(), rock_dir.c_str(), spread_wall);
+    for (const auto& r : kRows) {
+      if (r.key == "wall_s") continue;
+      std::vector<double> x4, x6;
+      for (const auto& c : spread) x4.push_back(c.v400.at(r.key)), x6.push_back(c.v600.at(r.key));
+      jstd400[r.key] = analysis::jackknife_std(x4), jstd600[r.key] = analysis::jackknife_std(x6);
+      auto within = [](double ours, double sd, double plant) {
+        return !std::isfinite(plant) || !std::isfinite(sd) ? "" : std::fabs(ours - plant) <= 2 * sd ? " (yes)" : " (no)";
+      };
+      std::printf("  %-28s | 400: %8s +- %-7s%-6s | 600: %8s +- %-7s%s\n", r.label.c_str(), cell(a.v[r.key]).c_str(),
+                  cell(jstd400[r.key]).c_str(), within(a.v[r.key], jstd400[r.key], r.exp400),
+                  cell(b.v[r.key]).c_str(), cell(jstd600[r.key]).c_str(), within(b.v[r.key], jstd600[r.key], r.exp600));
+    }
+  }
+
   ::mkdir(out.c_str(), 0755);
   std::ofstream j(out + "/validation.json");
   j << "{\n  \"load\": \"" << load << "\",\n  \"config400\": \"" << c400 << "\",\n  \"config600\": \"" << c600
@@ -207,7 +329,31 @@ int main(int argc, char** argv) {
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
     << (load != "flow" ? "null" : trend_tph ? "true" : "false") << ", \"product_finer\": "
     << (load != "flow" ? "null" : trend_finer ? "true" : "false") << "},\n"
-    << "  \"laws_added_for_600rpm\": [],\n  \"wall_s\": " << wall << "\n}\n";
+    << "  \"laws_added_for_600rpm\": [],\n";
+  if (!spread.empty()) {
+    j << "  \"rock_spread\": {\"dir\": \"" << rock_dir << "\", \"pourings\": " << spread.size()
+      << ", \"method\": \"jackknife: each leave-one-out material recalibrated at 400 rpm, both speeds rerun\", \"wall_s\": "
+      << spread_wall << ",\n    \"std\": [";
+    bool f1 = true;
+    for (const auto& r : kRows) {
+      if (!jstd400.count(r.key)) continue;
+      j << (f1 ? "" : ",") << "\n      {\"quantity\": \"" << r.key << "\", \"std400\": " << num(jstd400[r.key])
+        << ", \"std600\": " << num(jstd600[r.key]) << "}";
+      f1 = false;
+    }
+    j << "\n    ],\n    \"materials\": [";
+    for (std::size_t i = 0; i < spread.size(); ++i) {
+      const auto& c = spread[i];
+      j << (i ? "," : "") << "\n      {\"file\": \"" << c.file << "\", \"static_moment_kg_m\": " << num(c.cal.x[0])
+        << ", \"discharge_change_mm\": " << num(c.cal.x[1]) << ", \"feed_change_mm\": " << num(c.cal.x[2])
+        << ", \"calibration_cost\": " << num(c.cal.cost);
+      for (const char* k : {"amplitude_x_mm_mean", "power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t", "p80_mm"})
+        j << ", \"" << k << "_400\": " << num(c.v400.at(k)) << ", \"" << k << "_600\": " << num(c.v600.at(k));
+      j << "}";
+    }
+    j << "\n    ]\n  },\n";
+  }
+  j << "  \"wall_s\": " << wall << "\n}\n";
   std::printf("wrote %s/validation.json\n", out.c_str());
   return 0;
 }

@@ -9,7 +9,9 @@
 #include <string>
 
 #include "chamber/flow_model.hpp"
+#include "analysis/jackknife.hpp"
 #include "chamber/piston_die.hpp"
+#include "chamber/piston_die_record.hpp"
 #include "mbd/bed_law.hpp"
 
 using namespace chamber;
@@ -187,6 +189,116 @@ TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
     EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
   }
   std::remove(f.c_str());
+}
+
+// The pourings' record: every field read back as written (17 digits), so a pool of recorded pourings fits to the very
+// material the run that made them fitted; a bad record names its line.
+TEST(PistonDieRecord, PouringsReadBackExactlyAndFitTheSame) {
+  const auto sv = sieves_m();
+  std::vector<double> feed(sv.size());
+  for (std::size_t k = 0; k < sv.size(); ++k) feed[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(2.5), 0.0, 1.0);
+  BreakageParams truth;
+  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  std::vector<PistonDieResult> rs{synthetic_pouring(feed, truth, 2e7 / 3.0, 2.1, 0.47, 1.3),
+                                  synthetic_pouring(feed, truth, 4e7, 2.5, 0.52, 0.9)};
+  rs[0].seed = 11, rs[1].seed = 12, rs[1].blowup = "loop s_max 0.30: overlap 0.91 r (jam)";
+  rs[0].rocks = 45, rs[0].particles = 3811, rs[0].bonds = 7000, rs[0].die_diameter = 0.16, rs[0].die_area = 0.0201;
+  rs[0].rock_min = 0.028, rs[0].rock_max = 0.04, rs[0].piston_speed = 0.4, rs[0].bed_height = 0.1234567890123;
+  rs[0].dt = 4.75e-7, rs[0].settle_time = 0.28, rs[0].wall_s = 412.5;
+  rs[0].loops[1].bonds_broken = 377, rs[0].loops[1].fragments = 212, rs[0].loops[1].mass_error = 5.7e-16;
+  const std::string f = testing::TempDir() + "/piston_die_pourings.txt";
+  write_pourings(rs, f);
+  const auto back = read_pourings(f);
+  ASSERT_EQ(back.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto &a = rs[i], &b = back[i];
+    EXPECT_EQ(a.seed, b.seed);
+    EXPECT_EQ(a.blowup, b.blowup);
+    EXPECT_EQ(a.rocks, b.rocks);
+    EXPECT_EQ(a.particles, b.particles);
+    EXPECT_EQ(a.bed_height, b.bed_height);
+    EXPECT_EQ(a.rock_mass, b.rock_mass);
+    EXPECT_EQ(a.loose_solid_fraction, b.loose_solid_fraction);
+    EXPECT_EQ(a.rock_max, b.rock_max);
+    EXPECT_EQ(a.feed_passing, b.feed_passing);
+    ASSERT_EQ(a.loops.size(), b.loops.size());
+    for (std::size_t k = 0; k < a.loops.size(); ++k) {
+      EXPECT_EQ(a.loops[k].s, b.loops[k].s);
+      EXPECT_EQ(a.loops[k].p, b.loops[k].p);
+      EXPECT_EQ(a.loops[k].phase, b.loops[k].phase);
+      EXPECT_EQ(a.loops[k].passing, b.loops[k].passing);
+      EXPECT_EQ(a.loops[k].loop_energy, b.loops[k].loop_energy);
+      EXPECT_EQ(a.loops[k].bonds_broken, b.loops[k].bonds_broken);
+      EXPECT_EQ(a.loops[k].mass_error, b.loops[k].mass_error);
+    }
+  }
+  const MaterialFit m0 = fit_flow_material(rs), m1 = fit_flow_material(back);
+  EXPECT_EQ(m0.material.modulus_Pa, m1.material.modulus_Pa);
+  EXPECT_EQ(m0.material.exponent, m1.material.exponent);
+  EXPECT_EQ(m0.material.loose_fraction, m1.material.loose_fraction);
+  EXPECT_EQ(m0.material.rebound, m1.material.rebound);
+  EXPECT_EQ(m0.material.breakage.s_c, m1.material.breakage.s_c);
+  EXPECT_EQ(m0.material.breakage.gamma, m1.material.breakage.gamma);
+
+  // a damaged record: the line and what was expected
+  std::string text;
+  {
+    std::ifstream in(f);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  auto expect_refused = [&](const std::string& bad, const std::string& says) {
+    const std::string g = testing::TempDir() + "/piston_die_pourings_bad.txt";
+    std::ofstream(g) << bad;
+    try {
+      read_pourings(g);
+      ADD_FAILURE() << "accepted a record that " << says;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+    std::remove(g.c_str());
+  };
+  std::string no_mass = text;
+  no_mass.replace(no_mass.find(" rock_mass_kg="), 14, " rock_masskg=");
+  expect_refused(no_mass, "line 3: 'pouring' lacks rock_mass_kg");
+  std::string nan_p = text;
+  nan_p.replace(nan_p.find("\np_Pa ") + 6, 1, "x");
+  expect_refused(nan_p, "is not a number");
+  expect_refused(text.substr(0, text.find("\nphase")), "differ in length");
+  expect_refused("piston_die_pourings 2\n", "expected the header 'piston_die_pourings 1'");
+  std::remove(f.c_str());
+}
+
+// The jackknife of the pooled fit: each leave-one-out fit is the pooled fit of the others. Pourings of one law that
+// differ only in stiffness pool to the geometric mean of their moduli (equal points each), so ln E pooled is the mean
+// of the pourings' ln E and its jackknife standard error is their sample std / sqrt(K), a closed form.
+TEST(PistonDieRecord, LeaveOneOutFitsAreTheJackknifeOfThePooledFit) {
+  const auto sv = sieves_m();
+  std::vector<double> feed(sv.size());
+  for (std::size_t k = 0; k < sv.size(); ++k) feed[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(2.5), 0.0, 1.0);
+  BreakageParams truth;
+  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  const std::vector<double> E{1e7, 3e7, 5e7, 2e7};
+  std::vector<PistonDieResult> rs;
+  for (double e : E) rs.push_back(synthetic_pouring(feed, truth, e, 2.2, 0.5, 1.0));
+  const auto loo = leave_one_out_fits(rs);
+  ASSERT_EQ(loo.size(), E.size());
+  std::vector<double> lnE, loo_lnE;
+  for (std::size_t i = 0; i < E.size(); ++i) {
+    double mean_ln = 0;
+    for (std::size_t j = 0; j < E.size(); ++j)
+      if (j != i) mean_ln += std::log(E[j]) / (E.size() - 1);
+    EXPECT_NEAR(std::log(loo[i].material.modulus_Pa), mean_ln, 1e-9) << "without pouring " << i;
+    EXPECT_NEAR(loo[i].material.exponent, 2.2, 1e-9);
+    lnE.push_back(std::log(E[i])), loo_lnE.push_back(std::log(loo[i].material.modulus_Pa));
+  }
+  double mean = 0, var = 0;
+  for (double x : lnE) mean += x / lnE.size();
+  for (double x : lnE) var += (x - mean) * (x - mean) / (lnE.size() - 1);
+  EXPECT_NEAR(analysis::jackknife_std(loo_lnE), std::sqrt(var / lnE.size()), 1e-9);
+  // the pourings differ in stiffness only: the breakage every leave-one-out fit recovers is the same rock's
+  for (const auto& m : loo) expect_breakage_recovered(m, truth);
+  rs.pop_back(), rs.pop_back();
+  EXPECT_THROW(leave_one_out_fits(rs), std::invalid_argument);  // two pourings: a leave-one-out fit pools one
 }
 
 TEST(PistonDie, OptionsNameWhatIsWrong) {
