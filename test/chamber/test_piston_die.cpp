@@ -191,14 +191,26 @@ TEST(PistonDieFit, LabCsvIsFittedAndBadInputNamed) {
   std::remove(f.c_str());
 }
 
-// The pourings' record: every field read back as written (17 digits), so a pool of recorded pourings fits to the very
-// material the run that made them fitted; a bad record names its line.
-TEST(PistonDieRecord, PouringsReadBackExactlyAndFitTheSame) {
+namespace {
+// The record tests' pouring: a 20-50 mm feed and one rock's breakage.
+std::vector<double> record_feed() {
   const auto sv = sieves_m();
   std::vector<double> feed(sv.size());
   for (std::size_t k = 0; k < sv.size(); ++k) feed[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(2.5), 0.0, 1.0);
-  BreakageParams truth;
-  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  return feed;
+}
+BreakageParams record_rock() {
+  BreakageParams b;
+  b.s_c = 0.18, b.m = 1.6, b.q = 0.7, b.phi = 0.3, b.gamma = 1.1, b.beta = 3.0;
+  return b;
+}
+}  // namespace
+
+// The pourings' record: every field read back as written (17 digits), so a pool of recorded pourings fits to the very
+// material the run that made them fitted; a bad record names its line.
+TEST(PistonDieRecord, PouringsReadBackExactlyAndFitTheSame) {
+  const auto feed = record_feed();
+  const BreakageParams truth = record_rock();
   std::vector<PistonDieResult> rs{synthetic_pouring(feed, truth, 2e7 / 3.0, 2.1, 0.47, 1.3),
                                   synthetic_pouring(feed, truth, 4e7, 2.5, 0.52, 0.9)};
   rs[0].seed = 11, rs[1].seed = 12, rs[1].blowup = "loop s_max 0.30: overlap 0.91 r (jam)";
@@ -272,11 +284,8 @@ TEST(PistonDieRecord, PouringsReadBackExactlyAndFitTheSame) {
 // differ only in stiffness pool to the geometric mean of their moduli (equal points each), so ln E pooled is the mean
 // of the pourings' ln E and its jackknife standard error is their sample std / sqrt(K), a closed form.
 TEST(PistonDieRecord, LeaveOneOutFitsAreTheJackknifeOfThePooledFit) {
-  const auto sv = sieves_m();
-  std::vector<double> feed(sv.size());
-  for (std::size_t k = 0; k < sv.size(); ++k) feed[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(2.5), 0.0, 1.0);
-  BreakageParams truth;
-  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  const auto feed = record_feed();
+  const BreakageParams truth = record_rock();
   const std::vector<double> E{1e7, 3e7, 5e7, 2e7};
   std::vector<PistonDieResult> rs;
   for (double e : E) rs.push_back(synthetic_pouring(feed, truth, e, 2.2, 0.5, 1.0));
