@@ -89,6 +89,9 @@ const core::Schema<FlowParams>& flow_schema() {
                    for (std::size_t i = 1; i < p.feed_passing.size(); ++i)
                      if (p.feed_passing[i] < p.feed_passing[i - 1]) n.fail(key, "must not fall from sieve to sieve");
                  })
+        .text("calibration_unknowns", [](P& p) -> std::string& { return p.calibration_unknowns; },
+              "machine values `crusher calibrate --flow` fits at 400 rpm: up to three of static_moment, discharge, "
+              "feed, bearing_mu, comma separated (default static_moment,discharge,feed)")
         .boolean("prefill", [](P& p) -> bool& { return p.prefill; }, "start with the chamber full of loose feed")
         .integer("seed", 0, 2147483647, [](P& p) -> int& { return p.seed; },
                  "seed of the pressings' scatter (material scatter.lump_std > 0)")

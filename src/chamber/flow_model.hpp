@@ -105,6 +105,9 @@ struct FlowParams {
   bool compaction_memory = false;
   int seed = 1;               // of the pressings' scatter (material.lump_std > 0)
   std::string material_file;  // config: flow.material_file as given ("" none); its values are in `material`
+  // config: flow.calibration_unknowns, the machine values `crusher calibrate --flow` fits at 400 rpm, comma separated
+  // ("": the default three); read by analysis/flow_calibration.hpp, not by the model
+  std::string calibration_unknowns;
   FlowMaterial material;
   FlowEffects effects;
   FlowParams();

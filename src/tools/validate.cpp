@@ -140,14 +140,16 @@ SpreadCase run_spread_case(const std::string& file, const std::string& c400, con
   c.file = file;
   analysis::FlowRunOptions cal_o;
   cal_o.duration_s = 4, cal_o.settle_s = 4;
-  c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, cal_o, 60);
+  c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, cal_o, 60, {}, {},
+                                           analysis::parse_flow_unknowns(cfg4.flow.calibration_unknowns));
   analysis::FlowRunOptions o;
   o.settle_s = settle < 0 ? cfg4.run.settle_s : settle;
   o.duration_s = seconds > 0 ? seconds : cfg4.run.duration_s - o.settle_s;
   c.v400 = analysis::table5_values(analysis::run_flow(c.cal.mech, cfg4.flow, o));
   o.settle_s = settle < 0 ? cfg6.run.settle_s : settle;
   o.duration_s = seconds > 0 ? seconds : cfg6.run.duration_s - o.settle_s;
-  c.v600 = analysis::table5_values(analysis::run_flow(analysis::apply_flow_unknowns(cfg6.mech, c.cal.x), cfg6.flow, o));
+  c.v600 = analysis::table5_values(
+      analysis::run_flow(analysis::apply_flow_unknowns(cfg6.mech, c.cal.x, c.cal.names), cfg6.flow, o));
   return c;
 }
 
@@ -273,9 +275,12 @@ int main(int argc, char** argv) {
       for (const auto& f : jack_files) {
         spread.push_back(run_spread_case(f, c400, c600, seconds, settle));
         const auto& c = spread.back();
-        std::printf("rock spread: %s: recalibrated (cost %.3g) static moment %.2f kg m, discharge %+.2f mm, feed "
-                    "%+.2f mm -> 400: %.2f mm, %.1f kW, %.1f t/h; 600: %.2f mm, %.1f kW, %.1f t/h, %.2f kWh/t\n",
-                    std::filesystem::path(f).filename().c_str(), c.cal.cost, c.cal.x[0], c.cal.x[1], c.cal.x[2],
+        std::string values;
+        for (std::size_t i = 0; i < c.cal.names.size(); ++i)
+          values += (i ? ", " : "") + c.cal.names[i] + " " + cell(c.cal.x[i], c.cal.names[i] == "bearing_mu" ? 4 : 2);
+        std::printf("rock spread: %s: recalibrated (cost %.3g) %s -> 400: %.2f mm, %.1f kW, %.1f t/h; 600: %.2f mm, "
+                    "%.1f kW, %.1f t/h, %.2f kWh/t\n",
+                    std::filesystem::path(f).filename().c_str(), c.cal.cost, values.c_str(),
                     c.v400.at("amplitude_x_mm_mean"), c.v400.at("power_kW_mean"), c.v400.at("throughput_tph"),
                     c.v600.at("amplitude_x_mm_mean"), c.v600.at("power_kW_mean"), c.v600.at("throughput_tph"),
                     c.v600.at("specific_energy_kWh_per_t"));
@@ -344,9 +349,8 @@ int main(int argc, char** argv) {
     j << "\n    ],\n    \"materials\": [";
     for (std::size_t i = 0; i < spread.size(); ++i) {
       const auto& c = spread[i];
-      j << (i ? "," : "") << "\n      {\"file\": \"" << c.file << "\", \"static_moment_kg_m\": " << num(c.cal.x[0])
-        << ", \"discharge_change_mm\": " << num(c.cal.x[1]) << ", \"feed_change_mm\": " << num(c.cal.x[2])
-        << ", \"calibration_cost\": " << num(c.cal.cost);
+      j << (i ? "," : "") << "\n      {\"file\": \"" << c.file << "\", \"calibration_cost\": " << num(c.cal.cost);
+      for (std::size_t k = 0; k < c.cal.names.size(); ++k) j << ", \"" << c.cal.names[k] << "\": " << num(c.cal.x[k]);
       for (const char* k : {"amplitude_x_mm_mean", "power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t", "p80_mm"})
         j << ", \"" << k << "_400\": " << num(c.v400.at(k)) << ", \"" << k << "_600\": " << num(c.v600.at(k));
       j << "}";

@@ -61,7 +61,7 @@ for q in ("power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t"):
         s = std[q]["std%d" % rpm]
         assert s > 0 and abs(s - jack(x)) <= 1e-4 * s + 1e-9, (q, rpm, s, jack(x), x)
 for m in rs["materials"]:
-    assert 50 <= m["static_moment_kg_m"] <= 250 and m["calibration_cost"] >= 0, m
+    assert 50 <= m["static_moment"] <= 250 and m["calibration_cost"] >= 0, m
 text = open(d + "/validation.txt").read()
 assert "the rock's sampling (jackknife over the 3 pourings" in text, text[-800:]
 assert os.path.getsize(d + "/validation.png") > 10000
