@@ -334,7 +334,28 @@ int main(int argc, char** argv) {
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
     << (load != "flow" ? "null" : trend_tph ? "true" : "false") << ", \"product_finer\": "
     << (load != "flow" ? "null" : trend_finer ? "true" : "false") << "},\n"
-    << "  \"laws_added_for_600rpm\": [],\n";
+    << "  \"laws_added_for_600rpm\": [";
+  // The omitted-physics laws the shipped model turns on (the paper's idealisations dropped), each with its test; their
+  // values are calibrated at 400 rpm (flow.calibration_unknowns) or fixed, never fitted at 600 rpm.
+  {
+    const auto cfg = chamber::load_flow_run_config(c400);
+    const auto& e = cfg.mech.effects;
+    const auto& fe = cfg.flow.effects;
+    const std::vector<std::pair<bool, std::string>> laws = {
+        {e.bearing_friction.enabled, "mbd.effects.bearing_friction (test/mbd/test_bearing_friction.cpp)"},
+        {e.joint_friction.enabled, "mbd.effects.joint_friction (test/mbd/test_effects.cpp)"},
+        {e.absorber_nonlinearity.enabled, "mbd.effects.absorber_nonlinearity (test/mbd/test_effects.cpp)"},
+        {e.motor_droop.enabled, "mbd.effects.motor_droop (test/mbd/test_effects.cpp)"},
+        {e.cardan_misalignment.enabled, "mbd.effects.cardan_misalignment (test/mbd/test_effects.cpp)"},
+        {e.drive_efficiency.enabled, "mbd.effects.drive_efficiency (test/mbd/test_drive_efficiency.cpp)"},
+        {fe.feed_limited.enabled, "flow.effects.feed_limited (test/chamber/test_chamber_effects.cpp)"},
+        {fe.worn_liners.enabled, "flow.effects.worn_liners (test/chamber/test_chamber_effects.cpp)"},
+        {fe.squeeze_flow.enabled, "flow.effects.squeeze_flow (test/chamber/test_chamber_effects.cpp)"}};
+    bool first_law = true;
+    for (const auto& [on, law] : laws)
+      if (on) j << (first_law ? "" : ", ") << "\"" << law << "\"", first_law = false;
+    j << "], \"calibration_unknowns\": \"" << cfg.flow.calibration_unknowns << "\",\n";
+  }
   if (!spread.empty()) {
     j << "  \"rock_spread\": {\"dir\": \"" << rock_dir << "\", \"pourings\": " << spread.size()
       << ", \"method\": \"jackknife: each leave-one-out material recalibrated at 400 rpm, both speeds rerun\", \"wall_s\": "

@@ -80,7 +80,8 @@ TEST(FlowCalibration, UnknownsAreNamedInTheConfigAndCheckedByName) {
 // Closed loop: the figures of a run with a known bushing friction as the targets, the friction alone unknown: the
 // calibration finds it back (the power rises with mu, about mu r S w^3 on top of the crushing).
 TEST(FlowCalibration, RecoversAKnownBearingFrictionFromItsOwnRunsFigures) {
-  const auto c4 = chamber::load_flow_run_config(config("gyp1200_400rpm.yaml"));
+  auto c4 = chamber::load_flow_run_config(config("gyp1200_400rpm.yaml"));
+  c4.mech.effects.bearing_friction.enabled = false;  // the search starts without friction (at 0.005)
   analysis::FlowRunOptions o;
   o.duration_s = 1.5, o.settle_s = 2;
   const auto truth = analysis::run_flow(analysis::apply_flow_unknowns(c4.mech, {0.012}, {"bearing_mu"}), c4.flow, o);

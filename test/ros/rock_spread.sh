@@ -59,7 +59,8 @@ for q in ("power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t"):
     for rpm in (400, 600):
         x = [m["%s_%d" % (q, rpm)] for m in rs["materials"]]
         s = std[q]["std%d" % rpm]
-        assert s > 0 and abs(s - jack(x)) <= 1e-4 * s + 1e-9, (q, rpm, s, jack(x), x)
+        # the json's values carry 6 digits: the recomputed std is good to about 1e-5 of the values
+        assert s > 0 and abs(s - jack(x)) <= 1e-4 * s + 2e-5 * max(abs(v) for v in x), (q, rpm, s, jack(x), x)
 for m in rs["materials"]:
     assert 50 <= m["static_moment"] <= 250 and m["calibration_cost"] >= 0, m
 text = open(d + "/validation.txt").read()
