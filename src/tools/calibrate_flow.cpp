@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -50,9 +49,8 @@ int main(int argc, char** argv) {
       else if (a == "--seconds") seconds = args.number(0.5, 1000);
       else if (a == "--settle") settle = args.number(0, 1000);
       else if (a == "--unknowns") {
-        unknowns.clear();
-        std::stringstream list(args.value());
-        for (std::string item; std::getline(list, item, ',');) unknowns.push_back(analysis::flow_unknown(item).name);
+        const std::string v = args.value();  // "": the config's, as without the flag
+        unknowns = v.empty() ? std::vector<std::string>{} : analysis::parse_flow_unknowns(v);
       }
       else throw std::invalid_argument("unknown argument '" + a + "'");
     }
