@@ -159,6 +159,8 @@ MaterialFit fit_flow_material(const PistonDieResult& r);
 // branch together, rebound on every loop, breakage on every loop from its own pouring's feed; loose fraction the
 // pourings' total rock mass over their total solid mass at loose volume. std::invalid_argument if empty.
 MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings);
+// The same over pourings held elsewhere (the jackknife's subsets, without copying them).
+MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings);
 
 // Laboratory piston-die data: points in order; phase 0 loading, 1 unloading (-1: from the direction of s).
 struct LabPoint {

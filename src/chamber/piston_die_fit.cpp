@@ -235,6 +235,8 @@ MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
   return fit_pourings(rs);
 }
 
+MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings) { return fit_pourings(pourings); }
+
 double loop_peak_pressure(const PressLoop& L) {
   double peak = 0;
   for (double p : L.p) peak = std::max(peak, p);

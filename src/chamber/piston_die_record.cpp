@@ -208,9 +208,9 @@ std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& 
                                 std::to_string(pourings.size()));
   std::vector<MaterialFit> fits;
   for (std::size_t i = 0; i < pourings.size(); ++i) {
-    std::vector<PistonDieResult> rest;
+    std::vector<const PistonDieResult*> rest;
     for (std::size_t j = 0; j < pourings.size(); ++j)
-      if (j != i) rest.push_back(pourings[j]);
+      if (j != i) rest.push_back(&pourings[j]);
     fits.push_back(fit_flow_material(rest));
   }
   return fits;
