@@ -23,13 +23,19 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
         .number("loose_solid_fraction", "", 1, 0.2, 0.8, [](M& m) -> double& { return m.loose_fraction; },
                 "solid fraction of the loose (poured) bed")
         .number("pressure.modulus_MPa", "MPa", u::MPa, 0.01, 1e5, [](M& m) -> double& { return m.modulus_Pa; },
-                "virgin loading p = E s^n: E")
+                "virgin loading p = E u^n: E")
         .number("pressure.exponent", "", 1, 1, 6, [](M& m) -> double& { return m.exponent; },
-                "virgin loading p = E s^n: n")
+                "virgin loading p = E u^n: n")
         .number("pressure.rebound", "", 1, 0.01, 1, [](M& m) -> double& { return m.rebound; },
                 "recovered fraction of each compression")
         .number("pressure.max_compression", "", 1, 0.05, 0.8, [](M& m) -> double& { return m.max_compression; },
                 "compaction limit, at most the solid's 1 - loose_solid_fraction")
+        .choice(
+            "pressure.law", {"power", "solid_divergence"},
+            [](const M& m) { return std::string(m.solid_divergence ? "solid_divergence" : "power"); },
+            [](M& m, const std::string& v) { m.solid_divergence = v == "solid_divergence"; },
+            "virgin loading p = E u^n in u = s (power) or u = s / (1 - s / (1 - loose_solid_fraction)) (solid_divergence: "
+            "the pressure diverges at the solid's density; max_compression below that limit)")
         .number("scatter.lump_std", "", 1, 0, kMaxLumpStd, [](M& m) -> double& { return m.lump_std; },
                 "relative std of one lump's share of a bed's pressure, from replicate piston-die tests (0: the "
                 "pressings do not scatter)")

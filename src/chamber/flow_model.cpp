@@ -57,6 +57,11 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   require(m.rebound > 0 && m.rebound <= 1, "rebound must be in (0, 1]");
   require(m.max_compression > 0 && m.max_compression <= solid_compaction_limit(m.loose_fraction) + 1e-12,
           "max_compression must be in (0, 1 - loose_solid_fraction]: beyond it the rock would be denser than solid");
+  require(!m.solid_divergence || m.max_compression < solid_compaction_limit(m.loose_fraction),
+          "pressure.law solid_divergence needs max_compression below the solid limit 1 - loose_solid_fraction = " +
+              core::format_number(solid_compaction_limit(m.loose_fraction)) + ", where its pressure is infinite");
+  require(!m.solid_divergence || !p.compaction_memory,
+          "pressure.law solid_divergence is not implemented with compaction_memory: true (use false)");
   require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
                                                            core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
@@ -214,6 +219,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   const Eigen::Isometry3d to_mantle = mantle.inverse(), concave_to_mantle = to_mantle * concave;
   const std::size_t S = static_cast<std::size_t>(p_.sectors), C = classes();
   const auto& mat = p_.material;
+  const CompactionScale scale = compaction_scale(mat);  // the pressure law's coordinate u(s); its memory holds u
   // Puts rock taken from cell k (kg per class in scratch_, kg x its compressions in kg_count) into the cell below, or
   // out of the chamber from the bottom band; c_moved: the compaction it keeps (0: it falls and is re-poured).
   // pressed_out: the rock was pressed out of cell k's nip (it has had the pressing it joins below, if one goes on).
@@ -262,7 +268,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       D = mat.max_compression - from;
       fresh = break_fresh(scratch_.data(), pressed_out_.data(), from, mat.max_compression);
     } else {
-      const double e0 = std::min(memory_[k].e0, mat.max_compression);
+      const double e0 = std::min(scale.s(memory_[k].e0), mat.max_compression);
       D = mat.max_compression - e0;
       fresh = break_fresh(scratch_.data(), pressed_out_.data(), 0.0, D / (1.0 - e0));
     }
@@ -327,10 +333,11 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       }
     } else {
       const mbd::BedCell before = memory_[k];
-      p = mbd::bed_hysteretic(memory_[k], e, mat.modulus_Pa, mat.exponent, mat.rebound).p;
+      p = mbd::bed_hysteretic(memory_[k], scale.u(e), mat.modulus_Pa, mat.exponent, mat.rebound).p;
       if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
-        D = before.emax - before.e0;
-        fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - before.e0));
+        const double s0 = scale.s(before.e0);
+        D = scale.s(before.emax) - s0;
+        fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - s0));
       }
     }
     p *= squeeze;
@@ -422,6 +429,7 @@ std::vector<double> FlowModel::fingerprint() const {
                      b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta, double(p_.prefill),
                      double(p_.choke_feed), double(p_.compaction_memory)});
   if (m.lump_std > 0) f.insert(f.end(), {m.lump_std, double(p_.seed)});  // (without: as before the scatter)
+  if (m.solid_divergence) f.push_back(-2.0);  // the diverging law (without: as before it)
   return f;
 }
 

@@ -31,6 +31,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "chamber/bed_compaction.hpp"
 #include "chamber/bed_scatter.hpp"
 #include "chamber/breakage.hpp"
 #include "core/binary_io.hpp"
@@ -43,8 +44,9 @@ namespace chamber {
 struct FlowMaterial {
   double solid_density = 2600;   // kg/m^3 (Table 4)
   double loose_fraction = 0.55;  // solid fraction of the loose bed
-  double modulus_Pa = 50e6;      // virgin loading p = E s^n
+  double modulus_Pa = 50e6;      // virgin loading p = E u^n, u the compaction coordinate (bed_compaction.hpp)
   double exponent = 2.0;
+  bool solid_divergence = false; // u = s / (1 - s / s_solid) (the pressure diverges at the solid's density); false: u = s
   double rebound = 0.15;         // recovered fraction of each compression
   double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max)), at most the solid's (below)
   double lump_std = 0.0;         // relative std of one lump's share of a bed's pressure (bed_scatter.hpp); 0: none
@@ -55,6 +57,15 @@ struct FlowMaterial {
 // is denser; the piston-die fit takes it as the flow material's max_compression and extrapolates its pressure law
 // from the deepest pressing to it, rather than capping the pressure where the die stopped.
 inline double solid_compaction_limit(double loose_fraction) { return 1.0 - loose_fraction; }
+
+// The law's compaction coordinate: diverging at the solid limit, or the plain compression ratio.
+inline CompactionScale compaction_scale(const FlowMaterial& m) {
+  return m.solid_divergence ? CompactionScale{solid_compaction_limit(m.loose_fraction)} : CompactionScale{};
+}
+
+// Where a diverging law's rock is pressed out of the nip: 98 % of the solid limit (p = E (49 s_solid)^n, 0.2-0.4 GPa
+// for the die's rock; a numerical guard the vibrator's force does not reach, measured in src/chamber/README.md).
+inline double diverging_compaction_limit(double loose_fraction) { return 0.98 * solid_compaction_limit(loose_fraction); }
 
 // The paper's -50 mm marble feed (section 3.2), taken as P(x) = (x / 50 mm)^2.5 below 50 mm: fraction passing.
 std::vector<double> default_feed_passing(const std::vector<double>& sieves_m);

@@ -13,6 +13,7 @@
 //
 // Fit (fit_flow_material), the flow model's law:
 //   virgin loading  p = E s^n                      least squares of ln p on ln s over loading points s > 0.02
+//                   (PressureLaw::solid_divergence: p = E u^n, u = s / (1 - s / s_solid), ln p on ln u)
 //   hysteresis      mbd::bed_hysteretic: loss per loop (1 - rebound) E D^(n+1) / (n + 1), D = s_max;
 //                   rebound by least squares of the measured loop energies (closed integral of p ds)
 //   selection       S_j(s) = 1 - exp(-(s / s_cj)^m),  s_cj = s_c (x_j / x_ref)^(-q), x_ref = 10 mm,
@@ -115,16 +116,19 @@ struct PowerLawFit {
   int points = 0;
 };
 // Least squares in log space over the points with s > s_min and p > 0; std::invalid_argument below 2 points.
-PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double>& p, double s_min = 0.02);
+// In the compaction coordinate u(s) of `scale` (bed_compaction.hpp): p = modulus u^exponent (the plain s by default).
+PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double>& p, double s_min = 0.02,
+                          const CompactionScale& scale = {});
 
 // Closed integral of p ds along the recorded path (trapezoids; positive for a clockwise loss loop).
 double path_integral(const std::vector<double>& s, const std::vector<double>& p);
-// Loss of one loop of mbd::bed_hysteretic from 0 to D and back: (1 - rebound) E D^(n+1) / (n + 1).
-double hysteretic_loop_loss(double E, double n, double rebound, double D);
+// Loss of one loop of mbd::bed_hysteretic from 0 to D and back: (1 - rebound) E D^(n+1) / (n + 1); in the diverging
+// coordinate (the law in u, the work in s) by Simpson's rule.
+double hysteretic_loop_loss(double E, double n, double rebound, double D, const CompactionScale& scale = {});
 // rebound minimising sum (loss_model(D_i) - loss_i)^2, clipped to [0.01, 1] (the law needs some recovery); rms
 // residual (Pa) in *rms.
 double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss,
-                   double* rms = nullptr);
+                   double* rms = nullptr, const CompactionScale& scale = {});
 
 // One breakage event (chamber::Breakage, breakage.hpp) on a cumulative-passing PSD over `sieves` (m, ascending;
 // classes: below the first sieve, between sieves, above the last): returns the product's cumulative passing.
@@ -144,7 +148,8 @@ double lump_std_of_pourings(const std::vector<PistonDieResult>& pourings);
 // The fitted material (the flow model's FlowMaterial) with the fit's provenance.
 struct MaterialFit {
   FlowMaterial material;
-  PowerLawFit pressure_fit;
+  PowerLawFit pressure_fit;          // the material's law (in u when it diverges)
+  PowerLawFit power_fit;             // p = E s^n over the same points, for comparison
   double rebound_rms = 0.0;          // Pa
   double psd_rms_pct = 0.0;          // rms misfit of the cumulative passing over the fitted sieves (%)
   std::vector<std::string> fitted;   // names of the breakage parameters fitted (others default)
@@ -154,13 +159,15 @@ struct MaterialFit {
 
 // From a DEM run: all loading points of all loops for the pressure law, the loops for rebound, the PSDs for
 // breakage (sieves >= min_resolved only).
-MaterialFit fit_flow_material(const PistonDieResult& r);
+enum class PressureLaw { power, solid_divergence };  // bed_compaction.hpp
+MaterialFit fit_flow_material(const PistonDieResult& r, PressureLaw law = PressureLaw::power);
 // Pooled over replicate pourings of one test (seeds differ): the pressure law on every pouring's deepest loading
 // branch together, rebound on every loop, breakage on every loop from its own pouring's feed; loose fraction the
 // pourings' total rock mass over their total solid mass at loose volume. std::invalid_argument if empty.
-MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings);
+MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings, PressureLaw law = PressureLaw::power);
 // The same over pourings held elsewhere (the jackknife's subsets, without copying them).
-MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings);
+MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings,
+                              PressureLaw law = PressureLaw::power);
 
 // Laboratory piston-die data: points in order; phase 0 loading, 1 unloading (-1: from the direction of s).
 struct LabPoint {

@@ -120,13 +120,14 @@ void fit_breakage(const std::vector<const PistonDieResult*>& rs, MaterialFit& m)
 
 }  // namespace
 
-PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double>& p, double s_min) {
+PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double>& p, double s_min,
+                          const CompactionScale& scale) {
   if (s.size() != p.size()) throw std::invalid_argument("fit_power_law: s and p differ in length");
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   int n = 0;
   for (std::size_t k = 0; k < s.size(); ++k) {
     if (!(s[k] > s_min) || !(p[k] > 0)) continue;
-    const double x = std::log(s[k]), y = std::log(p[k]);
+    const double x = std::log(scale.u(s[k])), y = std::log(p[k]);
     sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
   }
   const double det = n * sxx - sx * sx;
@@ -140,7 +141,7 @@ PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double
   f.points = n;
   double e = 0;
   for (std::size_t k = 0; k < s.size(); ++k)
-    if (s[k] > s_min && p[k] > 0) e += std::pow(std::log(p[k]) - lnE - f.exponent * std::log(s[k]), 2);
+    if (s[k] > s_min && p[k] > 0) e += std::pow(std::log(p[k]) - lnE - f.exponent * std::log(scale.u(s[k])), 2);
   f.rms_log = std::sqrt(e / n);
   return f;
 }
@@ -152,13 +153,48 @@ double path_integral(const std::vector<double>& s, const std::vector<double>& p)
   return w;
 }
 
-double hysteretic_loop_loss(double E, double n, double rebound, double D) {
-  return (1.0 - rebound) * E * std::pow(D, n + 1.0) / (n + 1.0);  // bed_law.hpp, bed_hysteretic
+double hysteretic_loop_loss(double E, double n, double rebound, double D, const CompactionScale& scale) {
+  if (!scale.diverges()) return (1.0 - rebound) * E * std::pow(D, n + 1.0) / (n + 1.0);  // bed_law.hpp, bed_hysteretic
+  // p ds = p(u) s'(u) du, s'(u) = (1 + u / L)^-2: loading E u^n from 0 to U = u(D), unloading E U^n ((u - ur) /
+  // (rebound U))^n from U to ur = (1 - rebound) U; Simpson in t = u / U (loading) and t = (u - ur) / (rebound U).
+  const double U = scale.u(D), L = scale.limit, ur = (1.0 - rebound) * U;
+  auto ds = [L](double u) { return 1.0 / ((1.0 + u / L) * (1.0 + u / L)); };
+  constexpr int kN = 2000;  // even
+  double load = 0.0, back = 0.0;
+  for (int i = 0; i <= kN; ++i) {
+    const double t = double(i) / kN, w = (i == 0 || i == kN) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    const double tn = std::pow(t, n);
+    load += w * tn * ds(t * U);
+    back += w * tn * ds(ur + rebound * U * t);
+  }
+  return E * std::pow(U, n) * U * (load - rebound * back) / (3.0 * kN);
 }
 
-double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss, double* rms) {
+double fit_rebound(double E, double n, const std::vector<double>& D, const std::vector<double>& loss, double* rms,
+                   const CompactionScale& scale) {
   if (D.empty() || D.size() != loss.size())
     throw std::invalid_argument("fit_rebound: need as many loop losses as compressions (>= 1)");
+  auto misfit = [&](double r) {
+    double e = 0;
+    for (std::size_t k = 0; k < D.size(); ++k) e += std::pow(hysteretic_loop_loss(E, n, r, D[k], scale) - loss[k], 2);
+    return e;
+  };
+  if (scale.diverges()) {  // the loss is not linear in the rebound here: golden section over [0.01, 1]
+    for (double d : D)
+      if (!(d > 0)) throw std::invalid_argument("fit_rebound: compressions must be > 0");
+    double a = kMinRebound, b = 1.0;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double c = b - g * (b - a), d = a + g * (b - a), fc = misfit(c), fd = misfit(d);
+    while (b - a > 1e-7) {
+      if (fc < fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = misfit(c);
+      else a = c, c = d, fc = fd, d = a + g * (b - a), fd = misfit(d);
+    }
+    double r = 0.5 * (a + b);
+    if (misfit(kMinRebound) <= misfit(r)) r = kMinRebound;
+    if (misfit(1.0) < misfit(r)) r = 1.0;
+    if (rms) *rms = std::sqrt(misfit(r) / D.size());
+    return r;
+  }
   double ww = 0, wl = 0;
   for (std::size_t k = 0; k < D.size(); ++k) {
     const double W = hysteretic_loop_loss(E, n, 0.0, D[k]);
@@ -166,11 +202,7 @@ double fit_rebound(double E, double n, const std::vector<double>& D, const std::
   }
   if (!(ww > 0)) throw std::invalid_argument("fit_rebound: compressions must be > 0");
   const double r = std::clamp(1.0 - wl / ww, kMinRebound, 1.0);
-  if (rms) {
-    double e = 0;
-    for (std::size_t k = 0; k < D.size(); ++k) e += std::pow(hysteretic_loop_loss(E, n, r, D[k]) - loss[k], 2);
-    *rms = std::sqrt(e / D.size());
-  }
+  if (rms) *rms = std::sqrt(misfit(r) / D.size());
   return r;
 }
 
@@ -190,7 +222,8 @@ std::vector<double> breakage_event(const std::vector<double>& P, const std::vect
 namespace {
 
 // The fit of one or more pourings together (see piston_die.hpp).
-MaterialFit fit_pourings(const std::vector<const PistonDieResult*>& rs) {
+MaterialFit fit_pourings(const std::vector<const PistonDieResult*>& rs, PressureLaw law) {
+  // (the law changes E, n and rebound, and through n the size law below the resolved size; the breakage fit is the same)
   if (rs.empty()) throw std::invalid_argument("fit_flow_material: no pouring to fit");
   for (const auto* r : rs)
     if (r->loops.empty()) throw std::invalid_argument("fit_flow_material: a pouring holds no load-unload loop");
@@ -217,25 +250,32 @@ MaterialFit fit_pourings(const std::vector<const PistonDieResult*>& rs) {
       if (deep->phase[k] == 0) s.push_back(deep->s[k]), p.push_back(deep->p[k]);
     for (const auto& L : r->loops) D.push_back(L.s_reached), loss.push_back(L.loop_energy);
   }
-  m.pressure_fit = fit_power_law(s, p, 0.02);
+  // The power law, or the law diverging at the solid's density (bed_compaction.hpp); the power law's fit beside it.
+  mat.solid_divergence = law == PressureLaw::solid_divergence;
+  const CompactionScale scale = compaction_scale(mat);
+  m.pressure_fit = fit_power_law(s, p, 0.02, scale);
+  m.power_fit = fit_power_law(s, p, 0.02);
   mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
-  mat.max_compression = solid_compaction_limit(mat.loose_fraction);
-  mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
+  mat.max_compression = mat.solid_divergence ? diverging_compaction_limit(mat.loose_fraction)
+                                             : solid_compaction_limit(mat.loose_fraction);
+  mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms, scale);
   fit_breakage(rs, m);
   return m;
 }
 
 }  // namespace
 
-MaterialFit fit_flow_material(const PistonDieResult& r) { return fit_pourings({&r}); }
+MaterialFit fit_flow_material(const PistonDieResult& r, PressureLaw law) { return fit_pourings({&r}, law); }
 
-MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings) {
+MaterialFit fit_flow_material(const std::vector<PistonDieResult>& pourings, PressureLaw law) {
   std::vector<const PistonDieResult*> rs;
   for (const auto& r : pourings) rs.push_back(&r);
-  return fit_pourings(rs);
+  return fit_pourings(rs, law);
 }
 
-MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings) { return fit_pourings(pourings); }
+MaterialFit fit_flow_material(const std::vector<const PistonDieResult*>& pourings, PressureLaw law) {
+  return fit_pourings(pourings, law);
+}
 
 double loop_peak_pressure(const PressLoop& L) {
   double peak = 0;
@@ -367,7 +407,9 @@ MaterialFit fit_flow_material_lab(const std::vector<LabPoint>& pts) {
   mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
   if (unloaded) mat.rebound = fit_rebound(mat.modulus_Pa, mat.exponent, D, loss, &m.rebound_rms);
   else m.comments.push_back("no unloading branch in the lab data: rebound default " + fmt("%g", mat.rebound));
-  m.comments.push_back("loose_solid_fraction not in the lab data: default " + fmt("%g", mat.loose_fraction));
+  m.comments.push_back("loose_solid_fraction not in the lab data: default " + fmt("%g", mat.loose_fraction) +
+                       "; so the power law, which needs no solid limit");
+  m.power_fit = m.pressure_fit;
   mat.max_compression = solid_compaction_limit(mat.loose_fraction);
   m.breakage_note = "breakage not fitted (the lab data holds no PSD): defaults";
   return m;
@@ -379,6 +421,14 @@ void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
   if (!out) throw std::runtime_error("write_flow_material_yaml: cannot write '" + file + "'");
   for (const auto& l : provenance) out << "# " << l << "\n";
   for (const auto& l : m.comments) out << "# " << l << "\n";
+  if (m.material.solid_divergence)
+    out << "# pressure fit: p = E u^n, u = s / (1 - s / s_solid), s_solid = 1 - loose = "
+        << fmt("%.4f", solid_compaction_limit(m.material.loose_fraction)) << " (diverging at the solid's density), over "
+        << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p " << fmt("%.4f", m.pressure_fit.rms_log)
+        << "; the power law p = E s^n over the same points: E " << fmt("%.6g", m.power_fit.modulus * 1e-6) << " MPa, n "
+        << fmt("%.4f", m.power_fit.exponent) << ", rms of ln p " << fmt("%.4f", m.power_fit.rms_log) << "\n# rebound fit rms "
+        << fmt("%.4g", m.rebound_rms * 1e-6) << " MPa (loop energies)\n";
+  else
   out << "# pressure fit: p = E s^n over " << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p "
       << fmt("%.4f", m.pressure_fit.rms_log) << "; rebound fit rms " << fmt("%.4g", m.rebound_rms * 1e-6)
       << " MPa (loop energies)\n";
@@ -395,7 +445,8 @@ void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
   out << "  solid_density_kg_m3: " << fmt("%g", mat.solid_density) << "\n";
   out << "  loose_solid_fraction: " << fmt("%.4f", mat.loose_fraction) << "\n";
   out << "  pressure: {modulus_MPa: " << fmt("%.6g", mat.modulus_Pa * 1e-6) << ", exponent: " << fmt("%.4f", mat.exponent)
-      << ", rebound: " << fmt("%.4f", mat.rebound) << ", max_compression: " << fmt("%.4f", mat.max_compression) << "}\n";
+      << ", rebound: " << fmt("%.4f", mat.rebound) << ", max_compression: " << fmt("%.4f", mat.max_compression)
+      << (mat.solid_divergence ? ", law: solid_divergence" : "") << "}\n";
   out << "  selection: {s_c: " << fmt("%.4f", b.s_c) << ", exponent: " << fmt("%.4f", b.m)
       << ", size_exponent: " << fmt("%.4f", b.q) << ", x_ref_mm: " << fmt("%g", b.x_ref * 1e3)
       << ", resolved_mm: " << fmt("%g", b.x_resolved * 1e3) << ", size_exponent_below: " << fmt("%g", b.q_below) << "}\n";

@@ -202,7 +202,7 @@ std::vector<PistonDieResult> read_pourings(const std::string& file) {
   return out;
 }
 
-std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& pourings) {
+std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& pourings, PressureLaw law) {
   if (pourings.size() < 3)
     throw std::invalid_argument("leave_one_out_fits: the jackknife needs at least 3 pourings, got " +
                                 std::to_string(pourings.size()));
@@ -211,7 +211,7 @@ std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& 
     std::vector<const PistonDieResult*> rest;
     for (std::size_t j = 0; j < pourings.size(); ++j)
       if (j != i) rest.push_back(&pourings[j]);
-    fits.push_back(fit_flow_material(rest));
+    fits.push_back(fit_flow_material(rest, law));
   }
   return fits;
 }

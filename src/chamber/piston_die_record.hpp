@@ -29,6 +29,7 @@ std::vector<PistonDieResult> read_pourings(const std::string& file);
 
 // The jackknife of the pooled fit: the pooled fit of the pourings without pouring i, for each i (at least three
 // pourings, so that each fit pools two or more). std::invalid_argument otherwise.
-std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& pourings);
+std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& pourings,
+                                            PressureLaw law = PressureLaw::power);
 
 }  // namespace chamber

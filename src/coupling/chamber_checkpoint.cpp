@@ -31,6 +31,7 @@ std::vector<double> fingerprint(const ChamberDem& d) {
     f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors), q.compaction_memory ? 1.0 : 0.0,
                        m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression,
                        b.s_c, b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta});
+    if (m.solid_divergence) f.push_back(-2.0);  // the diverging pressure law (without: as before it)
     f.push_back(static_cast<double>(q.sieves_m.size()));
     f.insert(f.end(), q.sieves_m.begin(), q.sieves_m.end());
   }

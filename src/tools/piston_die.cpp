@@ -305,14 +305,21 @@ int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& po
       if (!pourings[i].blowup.empty())
         scatter += "; pouring " + std::to_string(i) + " " + pourings[i].blowup.substr(0, pourings[i].blowup.find(':')) +
                    ", its completed loops kept";
-    if (!jack.empty()) {
-      fs::create_directories(a.out + "/jackknife");
+    // The jackknife's materials: jackknife/ for the power law, jackknife/solid_divergence/ for the other
+    // (validate --rock-spread takes the folder of its config's law).
+    for (const auto law : {chamber::PressureLaw::power, chamber::PressureLaw::solid_divergence}) {
+      if (jack.empty()) break;
+      const bool div = law == chamber::PressureLaw::solid_divergence;
+      if (div) jack = chamber::leave_one_out_fits(pourings, law);
+      const std::string dir = a.out + "/jackknife" + (div ? "/solid_divergence" : "");
+      const std::string pooled = a.out + (div ? "/flow_material_solid_divergence.yaml" : "/flow_material.yaml");
+      fs::create_directories(dir);
       for (std::size_t i = 0; i < jack.size(); ++i) {
         auto J = jack[i];
         J.material.lump_std = m.material.lump_std;  // the scatter is the whole sample's, not refitted
         chamber::write_flow_material_yaml(
-            J, a.out + "/jackknife/flow_material_without_seed" + std::to_string(pourings[i].seed) + ".yaml",
-            {"written by: " + a.command, "the jackknife of " + a.out + "/flow_material.yaml: the pooled fit of its " +
+            J, dir + "/flow_material_without_seed" + std::to_string(pourings[i].seed) + ".yaml",
+            {"written by: " + a.command, "the jackknife of " + pooled + ": the pooled fit of its " +
                                              std::to_string(pourings.size()) + " pourings without seed " +
                                              std::to_string(pourings[i].seed)});
       }
@@ -367,10 +374,18 @@ int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& po
   if (!scatter.empty()) prov.push_back(scatter);
   prov.insert(prov.end(), spread.begin(), spread.end());
   chamber::write_flow_material_yaml(m, a.out + "/flow_material.yaml", prov);
+  // The same rock with the law that diverges at the solid's density (src/chamber/bed_compaction.hpp), beside it.
+  chamber::MaterialFit d = chamber::fit_flow_material(pourings, chamber::PressureLaw::solid_divergence);
+  d.material.lump_std = m.material.lump_std;
+  chamber::write_flow_material_yaml(d, a.out + "/flow_material_solid_divergence.yaml", prov);
   for (const auto& l : prov) std::printf("%s\n", l.c_str());
   std::printf("loose_solid_fraction %.4f; p = %.4g MPa s^%.4f (rms ln %.3f), rebound %.4f, max_compression %.4f\n",
               m.material.loose_fraction, m.material.modulus_Pa * 1e-6, m.material.exponent, m.pressure_fit.rms_log, m.material.rebound,
               m.material.max_compression);
+  std::printf("solid_divergence (flow_material_solid_divergence.yaml): p = %.4g MPa u^%.4f, u = s / (1 - s / %.4f) (rms ln "
+              "%.3f), rebound %.4f, max_compression %.4f\n",
+              d.material.modulus_Pa * 1e-6, d.material.exponent, chamber::solid_compaction_limit(d.material.loose_fraction),
+              d.pressure_fit.rms_log, d.material.rebound, d.material.max_compression);
   std::printf("breakage: s_c %.4f m %.4f q %.4f phi %.4f gamma %.4f beta %.4f (%s; rms %.2f %%)\n", m.material.breakage.s_c,
               m.material.breakage.m, m.material.breakage.q, m.material.breakage.phi, m.material.breakage.gamma, m.material.breakage.beta,
               m.breakage_note.c_str(), m.psd_rms_pct);

@@ -112,10 +112,12 @@ std::string pct(double ours, double ref) {
 }
 double err(double ours, double ref) { return std::isfinite(ours) && std::isfinite(ref) ? ours / ref - 1 : NAN; }
 
-std::vector<std::string> jackknife_materials(const std::string& dir) {
+// The jackknife's materials of the config's pressure law (piston_die writes the power law's in jackknife/, the
+// diverging law's in jackknife/solid_divergence/).
+std::vector<std::string> jackknife_materials(const std::string& dir, bool solid_divergence) {
   std::vector<std::string> files;
   namespace fs = std::filesystem;
-  const fs::path j = fs::path(dir) / "jackknife";
+  const fs::path j = fs::path(dir) / "jackknife" / (solid_divergence ? "solid_divergence" : "");
   if (!fs::is_directory(j)) return files;
   for (const auto& e : fs::directory_iterator(j)) {
     const std::string name = e.path().filename().string();
@@ -201,14 +203,16 @@ int main(int argc, char** argv) {
       std::cerr << "validate: --rock-spread applies to the flow load (the rock's material is the flow model's)\n";
       return 2;
     }
-    jack_files = jackknife_materials(rock_dir);
+    const bool div = cfg400.flow.material.solid_divergence;
+    jack_files = jackknife_materials(rock_dir, div);
     // The jackknife is of the folder's pooled material: warn when the config's rock is not that one.
     try {
-      const auto pooled = chamber::load_flow_material(rock_dir + "/flow_material.yaml");
+      const auto pooled = chamber::load_flow_material(
+          rock_dir + (div ? "/flow_material_solid_divergence.yaml" : "/flow_material.yaml"));
       const auto& shipped = cfg400.flow.material;
       auto differs = [](double a, double b) { return std::fabs(a - b) > 1e-3 * std::max(std::fabs(a), std::fabs(b)); };
       if (differs(pooled.modulus_Pa, shipped.modulus_Pa) || differs(pooled.exponent, shipped.exponent) ||
-          differs(pooled.loose_fraction, shipped.loose_fraction))
+          differs(pooled.loose_fraction, shipped.loose_fraction) || pooled.solid_divergence != shipped.solid_divergence)
         std::fprintf(stderr, "validate: warning: %s/flow_material.yaml (E %.4g MPa, n %.4g, loose %.4g) is not the "
                      "config's rock (E %.4g MPa, n %.4g, loose %.4g): the spread is that of another estimate\n",
                      rock_dir.c_str(), pooled.modulus_Pa * 1e-6, pooled.exponent, pooled.loose_fraction,

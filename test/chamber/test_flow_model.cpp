@@ -11,6 +11,7 @@
 #include "../common/coaxial_liners.hpp"
 #include "../common/flow_params.hpp"
 #include "chamber/flow_model.hpp"
+#include "chamber/piston_die.hpp"
 #include "core/binary_io.hpp"
 
 namespace {
@@ -140,6 +141,17 @@ TEST(FlowModel, RejectsBadParametersByName) {
   }
   p.material.max_compression = 0.45;
   EXPECT_NO_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)));
+  p.material.solid_divergence = true;  // its pressure is infinite at the solid limit: the limit must lie below
+  try {
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+    FAIL() << "accepted the diverging law's compaction limit at the solid's";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("solid_divergence needs max_compression below"), std::string::npos) << e.what();
+  }
+  p.material.max_compression = chamber::diverging_compaction_limit(0.55);
+  EXPECT_NO_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)));
+  p.compaction_memory = true;
+  EXPECT_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)), std::invalid_argument);
   p = params(4, 8);
   p.feed_passing.pop_back();
   EXPECT_THROW(chamber::FlowModel(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2)), std::invalid_argument);
@@ -177,6 +189,37 @@ TEST(FlowModel, OneCompressionEventBreaksTheClassesAsTheMatricesSay) {
   const double loss = V0 * (1 - mat.rebound) * mat.modulus_Pa * std::pow(s, mat.exponent + 1) / (mat.exponent + 1);
   EXPECT_NEAR(m.crushing_energy_J(), loss, 0.01 * loss);
   EXPECT_NEAR(m.cell_compressions(k), 1.0, 1e-15);
+}
+
+// The same event with the law that diverges at the solid's density (bed_compaction.hpp): the pressure is E u(s)^n, the
+// classes break by the ratio s itself (not u), and the work booked over the loop is the diverging law's loss.
+TEST(FlowModel, ADivergingBedPressesByItsLawAndBreaksByTheCompressionRatio) {
+  auto p = params(6, 8);
+  auto& mat = p.material;
+  mat.solid_divergence = true;
+  mat.max_compression = chamber::diverging_compaction_limit(mat.loose_fraction);
+  const chamber::CompactionScale scale = chamber::compaction_scale(mat);
+  chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+  const std::size_t k = 2 * 8 + 0;
+  const double g_rest = 0.05, A = m.cell_area(k), V0 = A * g_rest;
+  std::vector<double> feed(m.classes(), 0.0);
+  feed[m.classes() - 2] = 0.6 * V0 * m.loose_density();
+  feed[m.classes() - 4] = 0.4 * V0 * m.loose_density();
+  m.deposit(k, feed);
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+  const double d = 0.012;
+  const int n = 4000;
+  for (int i = 1; i <= n; ++i) m.step(shifted({d * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+  const double s = 1 - m.cell_gap(k) / g_rest;
+  ASSERT_GT(scale.u(s), 1.5 * s);  // deep enough that the two laws differ
+  EXPECT_NEAR(m.cell_pressure(k), mat.modulus_Pa * std::pow(scale.u(s), mat.exponent), 1e-6 * m.cell_pressure(k));
+  for (int i = n - 1; i >= 0; --i) m.step(shifted({d * i / n, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
+  EXPECT_EQ(m.events(), 1);
+  std::vector<double> expect = feed;
+  m.breakage().apply(s, expect.data());
+  for (std::size_t j = 0; j < m.classes(); ++j) EXPECT_NEAR(m.cell_classes(k)[j], expect[j], 1e-12) << "class " << j;
+  const double loss = V0 * chamber::hysteretic_loop_loss(mat.modulus_Pa, mat.exponent, mat.rebound, s, scale);
+  EXPECT_NEAR(m.crushing_energy_J(), loss, 0.01 * loss);
 }
 
 // The compacted bed (mbd::bed_compacted) in a cell: rock pressed, released half way (no gravity, so it is not

@@ -76,6 +76,68 @@ TEST(PistonDieFit, ReboundFitReproducesSyntheticHystereticLoops) {
   EXPECT_EQ(fit_rebound(E, n, D, loss), 0.01);  // clipped to the smallest recovery the law accepts
 }
 
+// The law that diverges at the solid's density (bed_compaction.hpp) is the power law in u = s / (1 - s / s_solid):
+// p = E u^n = E s_solid^n (s / (s_solid - s))^n (chamber_models.md section 3's diverging form); the fit in u recovers
+// a synthetic curve of it exactly, and the plain power law cannot (the two are told apart by the fit's rms).
+TEST(PistonDieFit, TheDivergingLawIsThePowerLawInItsCoordinate) {
+  const CompactionScale plain, div{0.45};
+  EXPECT_FALSE(plain.diverges());
+  EXPECT_TRUE(div.diverges());
+  for (double s : {0.0, 0.05, 0.2, 0.4, 0.449}) {
+    EXPECT_EQ(plain.u(s), s);
+    EXPECT_NEAR(div.s(div.u(s)), s, 1e-14);
+    EXPECT_NEAR(2e6 * std::pow(div.u(s), 1.6), 2e6 * std::pow(0.45, 1.6) * std::pow(s / (0.45 - s), 1.6),
+                1e-9 * 2e6 * std::pow(div.u(s), 1.6));
+  }
+  std::vector<double> s, p;
+  for (int k = 1; k <= 42; ++k) s.push_back(0.01 * k), p.push_back(0.8e6 * std::pow(div.u(0.01 * k), 1.45));
+  const PowerLawFit f = fit_power_law(s, p, 0.02, div);
+  EXPECT_NEAR(f.modulus, 0.8e6, 0.8e6 * 1e-9);
+  EXPECT_NEAR(f.exponent, 1.45, 1e-9);
+  EXPECT_LT(f.rms_log, 1e-9);
+  EXPECT_GT(fit_power_law(s, p, 0.02).rms_log, 0.05);  // the power law in s misses its rise near the limit
+  // the material's scale: the solid limit 1 - loose fraction when it diverges, none otherwise
+  FlowMaterial mat;
+  mat.loose_fraction = 0.47;
+  EXPECT_FALSE(compaction_scale(mat).diverges());
+  mat.solid_divergence = true;
+  EXPECT_DOUBLE_EQ(compaction_scale(mat).limit, 0.53);
+  EXPECT_LT(diverging_compaction_limit(0.47), 0.53);
+}
+
+// Loops of mbd::bed_hysteretic in the diverging coordinate (memory in u, the liner's path in s): the closed integral
+// of p ds is hysteretic_loop_loss with the scale (Simpson), the plain closed form in the limit of an infinite solid
+// limit, and fit_rebound with the scale recovers the rebound the loops were made with.
+TEST(PistonDieFit, DivergingLoopLossAndReboundFromSyntheticLoops) {
+  const double E = 0.9e6, n = 1.45, rebound = 0.18;
+  const CompactionScale div{0.53};
+  std::vector<double> D{0.15, 0.3, 0.42}, loss;
+  for (double d : D) {
+    mbd::BedCell c;
+    std::vector<double> s, p;
+    const int N = 20000;
+    for (int k = 0; k <= N; ++k) {
+      const double e = d * k / N;
+      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, div.u(e), E, n, rebound).p);
+    }
+    for (int k = N - 1; k >= 0; --k) {
+      const double e = d * k / N;
+      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, div.u(e), E, n, rebound).p);
+    }
+    const double l = path_integral(s, p), model = hysteretic_loop_loss(E, n, rebound, d, div);
+    EXPECT_NEAR(l, model, 1e-4 * model) << "D " << d;
+    EXPECT_GT(model, 1.05 * hysteretic_loop_loss(E, n, rebound, d));  // stiffer than the power law in s
+    loss.push_back(l);
+  }
+  EXPECT_NEAR(hysteretic_loop_loss(E, n, rebound, 0.3, CompactionScale{1e9}), hysteretic_loop_loss(E, n, rebound, 0.3),
+              1e-6 * hysteretic_loop_loss(E, n, rebound, 0.3));
+  double rms = -1;
+  EXPECT_NEAR(fit_rebound(E, n, D, loss, &rms, div), rebound, 2e-4);
+  EXPECT_LT(rms, 1e-3 * loss.back());
+  for (double& l : loss) l *= 10.0;  // more than the loading work: the smallest recovery the law accepts
+  EXPECT_EQ(fit_rebound(E, n, D, loss, nullptr, div), 0.01);
+}
+
 TEST(PistonDieFit, BreakageEventConservesMassAndFitRecoversParameters) {
   const auto sv = sieves_m();
   // feed spread over 16-50 mm

@@ -36,6 +36,11 @@ export CRUSHER_NO_BUILD=1
 bash "$crusher" calibrate --piston-die --pool "$out/d1,$out/d2" --out "$out/pool" >"$out/pool.log" 2>&1 ||
   { tail -n 20 "$out/pool.log"; echo "FAIL: calibrate --piston-die --pool exited non-zero"; exit 1; }
 ls "$out"/pool/jackknife/flow_material_without_seed{1,2,3}.yaml >/dev/null || { echo "FAIL: jackknife materials missing"; exit 1; }
+# the same rock with the law that diverges at the solid's density, and its jackknife, beside the power law's
+ls "$out"/pool/jackknife/solid_divergence/flow_material_without_seed{1,2,3}.yaml >/dev/null ||
+  { echo "FAIL: the diverging law's jackknife materials missing"; exit 1; }
+grep -q "law: solid_divergence" "$out/pool/flow_material_solid_divergence.yaml" && ! grep -q "law:" "$out/pool/flow_material.yaml" ||
+  { echo "FAIL: flow_material_solid_divergence.yaml should carry the diverging law, flow_material.yaml the power law"; exit 1; }
 [[ $(grep -c '^without,' "$out/pool/piston_die_fits.csv") == 3 && $(grep -c '^pooled,' "$out/pool/piston_die_fits.csv") == 1 ]] ||
   { cat "$out/pool/piston_die_fits.csv"; echo "FAIL: piston_die_fits.csv lacks the pooled or jackknife rows"; exit 1; }
 if bash "$crusher" calibrate --piston-die --pool "$out/d1,$out/d1" --out "$out/twice" >"$out/twice.log" 2>&1; then
