@@ -121,7 +121,8 @@ YAML::Node remove_path(YAML::Node n, const std::string& path) {
 // load -> write -> load is the identity for every shipped run config and every schema section.
 TEST(ConfigSchema, ShippedConfigsRoundTrip) {
   for (const char* file : {"gyp1200_400rpm.yaml", "gyp1200_600rpm.yaml", "gyp1200_400rpm_bed.yaml",
-                           "gyp1200_600rpm_bed.yaml", "quick_demo.yaml"}) {
+                           "gyp1200_600rpm_bed.yaml", "quick_demo.yaml", "gyp1200_400rpm_solid_divergence.yaml",
+                           "gyp1200_600rpm_solid_divergence.yaml"}) {
     for (const auto& s : sections()) {
       if (s.name == "flow_material" || s.name.rfind("bpm.", 0) == 0) continue;  // not sections of a run config
       const auto root = ConfigNode::load_file(kDir + file);
