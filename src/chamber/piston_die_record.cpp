@@ -1,6 +1,7 @@
 // The piston-die pourings' text record and the jackknife fits (piston_die_record.hpp).
 #include "chamber/piston_die_record.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -214,6 +215,35 @@ std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& 
     fits.push_back(fit_flow_material(rest, law));
   }
   return fits;
+}
+
+std::vector<PistonDieResult> merge_repressed_pourings(const std::vector<PistonDieResult>& pourings) {
+  std::vector<PistonDieResult> out;
+  for (const auto& r : pourings) {
+    auto same = std::find_if(out.begin(), out.end(), [&](const PistonDieResult& q) { return q.seed == r.seed; });
+    if (same == out.end()) {
+      out.push_back(r);
+      continue;
+    }
+    auto& q = *same;
+    const std::string who = "seed " + std::to_string(r.seed) + " is recorded twice";
+    auto close = [](double a, double b) { return std::fabs(a - b) <= 1e-12 * std::max(std::fabs(a), std::fabs(b)); };
+    if (q.rocks != r.rocks || q.particles != r.particles || q.bonds != r.bonds || !close(q.rock_mass, r.rock_mass) ||
+        !close(q.bed_height, r.bed_height) || !close(q.dt, r.dt) || !close(q.die_diameter, r.die_diameter))
+      throw std::invalid_argument(who + " as different beds (rocks, particles, bonds, rock mass, bed height, die or "
+                                        "time step differ): a pouring counted twice would weigh double");
+    for (const auto& L : r.loops) {
+      for (const auto& K : q.loops)
+        if (close(K.s_max, L.s_max))
+          throw std::invalid_argument(who + " with the loop to s_max " + std::to_string(L.s_max) +
+                                      " in both: a pressing counted twice would weigh double");
+      q.loops.push_back(L);
+    }
+    std::sort(q.loops.begin(), q.loops.end(), [](const PressLoop& a, const PressLoop& b) { return a.s_max < b.s_max; });
+    if (!r.blowup.empty()) q.blowup += (q.blowup.empty() ? "" : "; ") + r.blowup;
+    q.wall_s += r.wall_s;
+  }
+  return out;
 }
 
 }  // namespace chamber

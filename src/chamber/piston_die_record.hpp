@@ -27,6 +27,12 @@ void write_pourings(const std::vector<PistonDieResult>& pourings, const std::str
 // std::invalid_argument naming the file, the line and what was expected.
 std::vector<PistonDieResult> read_pourings(const std::string& file);
 
+// One pouring pressed again in a later run (the same seed, so the same settled bed: rocks, particles, bonds, rock
+// mass, bed height and time step equal) adds its loops to the earlier record's, in order of s_max: so a pool's pourings
+// can be pressed deeper later. Pourings of different seeds are kept as they are. std::invalid_argument, naming the
+// seed and what differs, for a seed recorded twice as different beds or with the same s_max twice.
+std::vector<PistonDieResult> merge_repressed_pourings(const std::vector<PistonDieResult>& pourings);
+
 // The jackknife of the pooled fit: the pooled fit of the pourings without pouring i, for each i (at least three
 // pourings, so that each fit pools two or more). std::invalid_argument otherwise.
 std::vector<MaterialFit> leave_one_out_fits(const std::vector<PistonDieResult>& pourings,

@@ -263,6 +263,12 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
     source += ")";
     pourings.insert(pourings.end(), more.begin(), more.end());
   }
+  try {  // a pouring pressed again later (deeper) adds its loops to its record
+    pourings = chamber::merge_repressed_pourings(pourings);
+  } catch (const std::invalid_argument& e) {
+    usage(std::string("--pool: ") + e.what() + "; pool folders of different seeds, or the same pourings pressed to other "
+          "depths");
+  }
   const auto& r0 = pourings.front();
   for (std::size_t i = 0; i < pourings.size(); ++i) {
     const auto& r = pourings[i];
@@ -274,10 +280,6 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
             f("%.1f", r.rock_max * 1e3) + " mm) than seed " + std::to_string(r0.seed) + "'s (die " +
             f("%.1f", r0.die_diameter * 1e3) + " mm, rocks " + f("%.1f", r0.rock_min * 1e3) + "-" +
             f("%.1f", r0.rock_max * 1e3) + " mm): only pourings of one die and rock are pooled");
-    for (std::size_t j = 0; j < i; ++j)
-      if (pourings[j].seed == r.seed)
-        usage("--pool: seed " + std::to_string(r.seed) + " is recorded twice (a pouring counted twice would weigh "
-              "double); pool folders of different seeds");
   }
   return pourings;
 }

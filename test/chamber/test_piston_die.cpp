@@ -345,6 +345,41 @@ TEST(PistonDieRecord, PouringsReadBackExactlyAndFitTheSame) {
 // The jackknife of the pooled fit: each leave-one-out fit is the pooled fit of the others. Pourings of one law that
 // differ only in stiffness pool to the geometric mean of their moduli (equal points each), so ln E pooled is the mean
 // of the pourings' ln E and its jackknife standard error is their sample std / sqrt(K), a closed form.
+// A pouring pressed again later, deeper (the same seed: the same bed), adds its loop to the record; the fit then takes
+// its deepest loading branch. The same seed as another bed, or the same pressing twice, is refused by name.
+TEST(PistonDieRecord, APouringPressedDeeperLaterAddsItsLoop) {
+  const auto feed = record_feed();
+  const BreakageParams truth = record_rock();
+  PistonDieResult first = synthetic_pouring(feed, truth, 2e7, 2.0, 0.47, 1.3);  // loops to 0.1, 0.2, 0.3
+  first.seed = 5, first.particles = 3800, first.bed_height = 0.08, first.dt = 5e-7;
+  PistonDieResult deeper = first, other = synthetic_pouring(feed, truth, 2e7, 2.0, 0.47, 1.3);
+  other.seed = 6;
+  deeper.loops = {first.loops.back()};
+  PressLoop& L = deeper.loops.front();
+  L.s.clear(), L.p.clear(), L.phase.clear();
+  L.s_max = L.s_reached = 0.5;
+  for (int k = 0; k <= 50; ++k) L.s.push_back(0.01 * k), L.p.push_back(2e7 * std::pow(0.01 * k, 2.0)), L.phase.push_back(0);
+  const auto merged = merge_repressed_pourings({first, other, deeper});
+  ASSERT_EQ(merged.size(), 2u);
+  ASSERT_EQ(merged[0].loops.size(), 4u);
+  EXPECT_EQ(merged[0].loops.back().s_max, 0.5);
+  EXPECT_EQ(merged[1].loops.size(), 3u);
+  EXPECT_EQ(fit_flow_material(merged[0]).pressure_fit.points, 48);  // s > 0.02 of the 0.5 branch: 0.03 ... 0.5
+  try {
+    merge_repressed_pourings({first, first});
+    FAIL() << "accepted the same pressing twice";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("seed 5 is recorded twice with the loop to s_max"), std::string::npos) << e.what();
+  }
+  deeper.rock_mass *= 1.01;
+  try {
+    merge_repressed_pourings({first, deeper});
+    FAIL() << "accepted another bed under the same seed";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("as different beds"), std::string::npos) << e.what();
+  }
+}
+
 TEST(PistonDieRecord, LeaveOneOutFitsAreTheJackknifeOfThePooledFit) {
   const auto feed = record_feed();
   const BreakageParams truth = record_rock();
