@@ -359,7 +359,9 @@ int main(int argc, char** argv) {
         {e.drive_efficiency.enabled, "mbd.effects.drive_efficiency (test/mbd/test_drive_efficiency.cpp)"},
         {fe.feed_limited.enabled, "flow.effects.feed_limited (test/chamber/test_chamber_effects.cpp)"},
         {fe.worn_liners.enabled, "flow.effects.worn_liners (test/chamber/test_chamber_effects.cpp)"},
-        {fe.squeeze_flow.enabled, "flow.effects.squeeze_flow (test/chamber/test_chamber_effects.cpp)"}};
+        {fe.squeeze_flow.enabled, "flow.effects.squeeze_flow (test/chamber/test_chamber_effects.cpp)"},
+        {cfg.flow.material.solid_divergence,
+         "flow.material.pressure.law solid_divergence (test/chamber/test_flow_model.cpp, test_piston_die.cpp)"}};
     bool first_law = true;
     for (const auto& [on, law] : laws)
       if (on) j << (first_law ? "" : ", ") << "\"" << law << "\"", first_law = false;
