@@ -31,6 +31,16 @@ void expect_breakage_recovered(const MaterialFit& m, const BreakageParams& truth
   EXPECT_NEAR(m.material.breakage.phi, truth.phi, 0.03);
   EXPECT_NEAR(m.material.breakage.gamma, truth.gamma, 0.1);
 }
+// The closed integral of p ds over one loop of mbd::bed_hysteretic itself, s from 0 to D and back in N steps each,
+// its memory in the law's coordinate u(s).
+double law_loop_loss(double E, double n, double rebound, double D, const CompactionScale& scale, int N) {
+  mbd::BedCell c;
+  std::vector<double> s, p;
+  for (int k = 0; k <= N; ++k) s.push_back(D * k / N), p.push_back(mbd::bed_hysteretic(c, scale.u(s.back()), E, n, rebound).p);
+  for (int k = N - 1; k >= 0; --k)
+    s.push_back(D * k / N), p.push_back(mbd::bed_hysteretic(c, scale.u(s.back()), E, n, rebound).p);
+  return path_integral(s, p);
+}
 }  // namespace
 
 TEST(PistonDieFit, PowerLawReproducesSyntheticCurveExactly) {
@@ -51,18 +61,7 @@ TEST(PistonDieFit, ReboundFitReproducesSyntheticHystereticLoops) {
   const double E = 60e6, n = 2.2, rebound = 0.23;
   std::vector<double> D{0.1, 0.2, 0.3}, loss;
   for (double d : D) {
-    mbd::BedCell c;
-    std::vector<double> s, p;
-    const int N = 4000;
-    for (int k = 0; k <= N; ++k) {
-      const double e = d * k / N;
-      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, e, E, n, rebound).p);
-    }
-    for (int k = N - 1; k >= 0; --k) {
-      const double e = d * k / N;
-      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, e, E, n, rebound).p);
-    }
-    const double l = path_integral(s, p);
+    const double l = law_loop_loss(E, n, rebound, d, {}, 4000);
     EXPECT_NEAR(l, hysteretic_loop_loss(E, n, rebound, d), 1e-4 * hysteretic_loop_loss(E, n, rebound, d));
     loss.push_back(l);
   }
@@ -113,18 +112,7 @@ TEST(PistonDieFit, DivergingLoopLossAndReboundFromSyntheticLoops) {
   const CompactionScale div{0.53};
   std::vector<double> D{0.15, 0.3, 0.42}, loss;
   for (double d : D) {
-    mbd::BedCell c;
-    std::vector<double> s, p;
-    const int N = 20000;
-    for (int k = 0; k <= N; ++k) {
-      const double e = d * k / N;
-      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, div.u(e), E, n, rebound).p);
-    }
-    for (int k = N - 1; k >= 0; --k) {
-      const double e = d * k / N;
-      s.push_back(e), p.push_back(mbd::bed_hysteretic(c, div.u(e), E, n, rebound).p);
-    }
-    const double l = path_integral(s, p), model = hysteretic_loop_loss(E, n, rebound, d, div);
+    const double l = law_loop_loss(E, n, rebound, d, div, 20000), model = hysteretic_loop_loss(E, n, rebound, d, div);
     EXPECT_NEAR(l, model, 1e-4 * model) << "D " << d;
     EXPECT_GT(model, 1.05 * hysteretic_loop_loss(E, n, rebound, d));  // stiffer than the power law in s
     loss.push_back(l);
