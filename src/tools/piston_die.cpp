@@ -239,14 +239,32 @@ std::vector<chamber::PistonDieResult> run_dem(const Args& a, std::string& source
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
   std::vector<chamber::PistonDieResult> pourings;
   // Replicates: a pouring whose deeper loop blows up (a jammed bed; half the step jams it too, measured) keeps the
-  // loops it completed, so neither the pouring nor the others' work is lost.
+  // loops it completed, and one that blows up in its first loop is left out (named, its state dumped per seed), so
+  // neither that pouring's completed work nor the other pourings' is lost.
   o.keep_loops_on_blowup = a.replicates > 1;
+  std::vector<std::string> lost;
   for (int i = 0; i < a.replicates; ++i) {
     o.seed = a.seed + static_cast<unsigned long long>(i);
-    pourings.push_back(chamber::run_piston_die(bpm, o));
+    if (a.replicates > 1) o.blowup_dump_path = a.out + "/blowup_piston_die_seed" + std::to_string(o.seed) + ".csv";
+    try {
+      pourings.push_back(chamber::run_piston_die(bpm, o));
+    } catch (const dem::BlowUp& e) {
+      if (a.replicates == 1) throw;
+      lost.push_back("seed " + std::to_string(o.seed));
+      std::fprintf(stderr, "piston_die: pouring %d (seed %llu) blew up before completing a loop, left out: %s\n", i,
+                   o.seed, e.what());
+      continue;
+    }
     if (!pourings.back().blowup.empty())
       std::fprintf(stderr, "piston_die: pouring %d (seed %llu): %s\n", i, o.seed, pourings.back().blowup.c_str());
     chamber::write_pourings(pourings, a.out + "/piston_die_pourings.txt");  // each pouring kept as soon as it is done
+  }
+  if (pourings.empty()) throw std::runtime_error("every pouring blew up before completing a loop (see the dumps)");
+  if (!lost.empty()) {
+    std::string l;
+    for (const auto& x : lost) l += (l.empty() ? "" : ", ") + x;
+    std::fprintf(stderr, "piston_die: %zu of %d pourings kept (left out, no loop completed: %s)\n", pourings.size(),
+                 a.replicates, l.c_str());
   }
   source = "virtual piston-die test (src/chamber/piston_die.cpp) on the BPM " + bpm_file + (a.quick ? " (--quick)" : "");
   return pourings;
