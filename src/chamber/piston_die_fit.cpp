@@ -421,17 +421,18 @@ void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
   if (!out) throw std::runtime_error("write_flow_material_yaml: cannot write '" + file + "'");
   for (const auto& l : provenance) out << "# " << l << "\n";
   for (const auto& l : m.comments) out << "# " << l << "\n";
-  if (m.material.solid_divergence)
+  if (m.material.solid_divergence) {
     out << "# pressure fit: p = E u^n, u = s / (1 - s / s_solid), s_solid = 1 - loose = "
         << fmt("%.4f", solid_compaction_limit(m.material.loose_fraction)) << " (diverging at the solid's density), over "
         << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p " << fmt("%.4f", m.pressure_fit.rms_log)
         << "; the power law p = E s^n over the same points: E " << fmt("%.6g", m.power_fit.modulus * 1e-6) << " MPa, n "
         << fmt("%.4f", m.power_fit.exponent) << ", rms of ln p " << fmt("%.4f", m.power_fit.rms_log) << "\n# rebound fit rms "
         << fmt("%.4g", m.rebound_rms * 1e-6) << " MPa (loop energies)\n";
-  else
-  out << "# pressure fit: p = E s^n over " << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p "
-      << fmt("%.4f", m.pressure_fit.rms_log) << "; rebound fit rms " << fmt("%.4g", m.rebound_rms * 1e-6)
-      << " MPa (loop energies)\n";
+  } else {
+    out << "# pressure fit: p = E s^n over " << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p "
+        << fmt("%.4f", m.pressure_fit.rms_log) << "; rebound fit rms " << fmt("%.4g", m.rebound_rms * 1e-6)
+        << " MPa (loop energies)\n";
+  }
   out << "# " << m.breakage_note;
   if (!m.fitted.empty()) {
     out << "; fitted:";
