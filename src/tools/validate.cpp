@@ -206,16 +206,16 @@ int main(int argc, char** argv) {
     const bool div = cfg400.flow.material.solid_divergence;
     jack_files = jackknife_materials(rock_dir, div);
     // The jackknife is of the folder's pooled material: warn when the config's rock is not that one.
+    const std::string pooled_file = rock_dir + (div ? "/flow_material_solid_divergence.yaml" : "/flow_material.yaml");
     try {
-      const auto pooled = chamber::load_flow_material(
-          rock_dir + (div ? "/flow_material_solid_divergence.yaml" : "/flow_material.yaml"));
+      const auto pooled = chamber::load_flow_material(pooled_file);
       const auto& shipped = cfg400.flow.material;
       auto differs = [](double a, double b) { return std::fabs(a - b) > 1e-3 * std::max(std::fabs(a), std::fabs(b)); };
       if (differs(pooled.modulus_Pa, shipped.modulus_Pa) || differs(pooled.exponent, shipped.exponent) ||
           differs(pooled.loose_fraction, shipped.loose_fraction) || pooled.solid_divergence != shipped.solid_divergence)
-        std::fprintf(stderr, "validate: warning: %s/flow_material.yaml (E %.4g MPa, n %.4g, loose %.4g) is not the "
+        std::fprintf(stderr, "validate: warning: %s (E %.4g MPa, n %.4g, loose %.4g) is not the "
                      "config's rock (E %.4g MPa, n %.4g, loose %.4g): the spread is that of another estimate\n",
-                     rock_dir.c_str(), pooled.modulus_Pa * 1e-6, pooled.exponent, pooled.loose_fraction,
+                     pooled_file.c_str(), pooled.modulus_Pa * 1e-6, pooled.exponent, pooled.loose_fraction,
                      shipped.modulus_Pa * 1e-6, shipped.exponent, shipped.loose_fraction);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "validate: warning: --rock-spread %s: its pooled material not compared (%s)\n",
