@@ -189,10 +189,10 @@ double fit_rebound(double E, double n, const std::vector<double>& D, const std::
       if (fc < fd) b = d, d = c, fd = fc, c = b - g * (b - a), fc = misfit(c);
       else a = c, c = d, fc = fd, d = a + g * (b - a), fd = misfit(d);
     }
-    double r = 0.5 * (a + b);
-    if (misfit(kMinRebound) <= misfit(r)) r = kMinRebound;
-    if (misfit(1.0) < misfit(r)) r = 1.0;
-    if (rms) *rms = std::sqrt(misfit(r) / D.size());
+    double r = 0.5 * (a + b), fr = misfit(r);  // or a bound, if that fits better
+    if (const double f0 = misfit(kMinRebound); f0 <= fr) r = kMinRebound, fr = f0;
+    if (const double f1 = misfit(1.0); f1 < fr) r = 1.0, fr = f1;
+    if (rms) *rms = std::sqrt(fr / D.size());
     return r;
   }
   double ww = 0, wl = 0;
