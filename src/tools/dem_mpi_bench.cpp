@@ -87,8 +87,10 @@ int crusher(const std::string& config, long steps, long warmup, int threads) {
   MPI_Reduce(&mine, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
   double slowest = 0;
   MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
-  std::fprintf(stderr, "rank %d of %d: owned %llu wall_s %.3f crushing_s %.2f bookkeeping_s %.2f\n", rank, size, mine,
-               wall, ph[3] - ph0[3], ph[4] - ph0[4]);
+  const auto* own = dem.engine().owned(0);  // null: one World, no ghosts
+  const std::size_t ghosts = own ? std::count(own->begin(), own->end(), 0) : 0;
+  std::fprintf(stderr, "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f\n",
+               rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4]);
   if (rank == 0) {
     std::printf("case crusher ranks %d threads %d particles %llu coupling_steps %ld wall_s %.3f wall_h_per_sim_s %.2f "
                 "recuts %d\n", size, threads, all, steps, slowest, slowest / (steps * dtc) / 3600.0,
