@@ -139,6 +139,7 @@ PowerLawFit fit_power_law(const std::vector<double>& s, const std::vector<double
   const double lnE = (sy - f.exponent * sx) / n;
   f.modulus = std::exp(lnE);
   f.points = n;
+  f.s_min = s_min;
   double e = 0;
   for (std::size_t k = 0; k < s.size(); ++k)
     if (s[k] > s_min && p[k] > 0) e += std::pow(std::log(p[k]) - lnE - f.exponent * std::log(scale.u(s[k])), 2);
@@ -253,8 +254,8 @@ MaterialFit fit_pourings(const std::vector<const PistonDieResult*>& rs, Pressure
   // The power law, or the law diverging at the solid's density (bed_compaction.hpp); the power law's fit beside it.
   mat.solid_divergence = law == PressureLaw::solid_divergence;
   const CompactionScale scale = compaction_scale(mat);
-  m.pressure_fit = fit_power_law(s, p, 0.02, scale);
-  m.power_fit = fit_power_law(s, p, 0.02);
+  m.pressure_fit = fit_power_law(s, p, kDieBedOnset, scale);
+  m.power_fit = fit_power_law(s, p, kDieBedOnset);
   mat.modulus_Pa = m.pressure_fit.modulus, mat.exponent = m.pressure_fit.exponent;
   mat.max_compression = mat.solid_divergence ? diverging_compaction_limit(mat.loose_fraction)
                                              : solid_compaction_limit(mat.loose_fraction);
@@ -424,12 +425,14 @@ void write_flow_material_yaml(const MaterialFit& m, const std::string& file,
   if (m.material.solid_divergence) {
     out << "# pressure fit: p = E u^n, u = s / (1 - s / s_solid), s_solid = 1 - loose = "
         << fmt("%.4f", solid_compaction_limit(m.material.loose_fraction)) << " (diverging at the solid's density), over "
-        << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p " << fmt("%.4f", m.pressure_fit.rms_log)
+        << m.pressure_fit.points << " loading points (s > " << fmt("%g", m.pressure_fit.s_min) << "), rms of ln p "
+        << fmt("%.4f", m.pressure_fit.rms_log)
         << "; the power law p = E s^n over the same points: E " << fmt("%.6g", m.power_fit.modulus * 1e-6) << " MPa, n "
         << fmt("%.4f", m.power_fit.exponent) << ", rms of ln p " << fmt("%.4f", m.power_fit.rms_log) << "\n# rebound fit rms "
         << fmt("%.4g", m.rebound_rms * 1e-6) << " MPa (loop energies)\n";
   } else {
-    out << "# pressure fit: p = E s^n over " << m.pressure_fit.points << " loading points (s > 0.02), rms of ln p "
+    out << "# pressure fit: p = E s^n over " << m.pressure_fit.points << " loading points (s > "
+        << fmt("%g", m.pressure_fit.s_min) << "), rms of ln p "
         << fmt("%.4f", m.pressure_fit.rms_log) << "; rebound fit rms " << fmt("%.4g", m.rebound_rms * 1e-6)
         << " MPa (loop energies)\n";
   }

@@ -178,6 +178,45 @@ PistonDieResult synthetic_pouring(const std::vector<double>& feed, const Breakag
 }
 }  // namespace
 
+// The die's first compression presses the top rocks alone (H0 is the highest rock's top): a loading branch that is
+// the bed's law E s^n only past kDieBedOnset and above it before (the top rocks carry the piston early) gives the bed's
+// law exactly, while a fit from s 0.02 is dragged off it: too soft at depth, as the DEM die's pourings were
+// (src/chamber/README.md).
+TEST(PistonDieFit, TheBedLawIsFittedWhereThePistonBearsOnTheWholeBed) {
+  const auto sv = sieves_m();
+  std::vector<double> feed(sv.size());
+  for (std::size_t k = 0; k < sv.size(); ++k) feed[k] = std::clamp(std::log(sv[k] / 0.020) / std::log(50.0 / 20.0), 0.0, 1.0);
+  BreakageParams truth;
+  truth.s_c = 0.18, truth.m = 1.6, truth.q = 0.7, truth.phi = 0.3, truth.gamma = 1.1, truth.beta = 3.0;
+  const double E = 2e7, n = 3.0;
+  PistonDieResult r = synthetic_pouring(feed, truth, E, n, 0.47, 3.0);
+  PressLoop& deep = r.loops.back();
+  ASSERT_DOUBLE_EQ(deep.s_reached, 0.3);
+  int settling = 0;
+  for (std::size_t k = 0; k < deep.s.size(); ++k)
+    if (deep.phase[k] == 0 && deep.s[k] > 0 && deep.s[k] <= kDieBedOnset) {  // the top rocks: continuous at the onset
+      deep.p[k] = E * std::pow(deep.s[k], n) * std::pow(kDieBedOnset / deep.s[k], 1.5);
+      ++settling;
+    }
+  EXPECT_GT(settling, 15);
+  const MaterialFit m = fit_flow_material(r);
+  EXPECT_NEAR(m.material.modulus_Pa, E, 1e-9 * E);
+  EXPECT_NEAR(m.material.exponent, n, 1e-9);
+  EXPECT_EQ(m.pressure_fit.s_min, kDieBedOnset);
+  EXPECT_EQ(m.pressure_fit.points, 10);  // s 0.21 ... 0.30
+  std::vector<double> s, p;
+  for (std::size_t k = 0; k < deep.s.size(); ++k)
+    if (deep.phase[k] == 0) s.push_back(deep.s[k]), p.push_back(deep.p[k]);
+  const PowerLawFit all = fit_power_law(s, p, 0.02);
+  EXPECT_LT(all.exponent, n - 0.5);  // the top rocks' early load flattens it
+  EXPECT_LT(all.modulus * std::pow(0.5, all.exponent), 0.5 * E * std::pow(0.5, n));  // ... yet too soft beyond it
+  const std::string f = ::testing::TempDir() + "/onset_material.yaml";
+  write_flow_material_yaml(m, f, {"test"});
+  std::ifstream in(f);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("loading points (s > 0.2)"), std::string::npos) << text;
+}
+
 // Pourings of one rock with other feeds and packings: the pooled fit recovers the rock from all of them, and weighs
 // each (a fit of the first alone, as before, gives the first's pressure and packing).
 TEST(PistonDieFit, PooledFitOfReplicatePouringsRecoversTheRockAndWeighsEveryPouring) {
@@ -352,7 +391,7 @@ TEST(PistonDieRecord, APouringPressedDeeperLaterAddsItsLoop) {
   ASSERT_EQ(merged[0].loops.size(), 4u);
   EXPECT_EQ(merged[0].loops.back().s_max, 0.5);
   EXPECT_EQ(merged[1].loops.size(), 3u);
-  EXPECT_EQ(fit_flow_material(merged[0]).pressure_fit.points, 48);  // s > 0.02 of the 0.5 branch: 0.03 ... 0.5
+  EXPECT_EQ(fit_flow_material(merged[0]).pressure_fit.points, 30);  // s > kDieBedOnset of the 0.5 branch: 0.21 ... 0.5
   try {
     merge_repressed_pourings({first, first});
     FAIL() << "accepted the same pressing twice";
