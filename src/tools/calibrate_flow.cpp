@@ -3,6 +3,9 @@
 // three of static_moment, discharge, feed, bearing_mu), against Table 5's EXP 400 rpm amplitude, power and throughput.
 //   calibrate_flow --config launch_free_configs/gyp1200_400rpm.yaml --out DIR [--evaluations N] [--seconds S]
 //                  [--settle S]
+// The figures fitted are those `crusher run CONFIG` and `crusher validate` report: over the config's run window
+// (--settle default run.settle_s, --seconds run.duration_s - settle_s), so what is calibrated is what is shown; a
+// machine whose motion is irregular needs that window long (src/chamber/README.md: 36 s at 400 rpm).
 // Writes DIR/calibration_flow.json (fitted values, what each sets, the figures reached) and DIR/calibrated_mbd.yaml
 // (the mbd: section with the fitted values).
 #include <sys/stat.h>
@@ -37,7 +40,7 @@ int main(int argc, char** argv) {
   std::string config, out;
   int evals = 60;
   std::vector<std::string> unknowns;  // empty: the config's flow.calibration_unknowns
-  double seconds = 4, settle = 4;
+  double seconds = -1, settle = -1;  // < 0: the config's run window
   try {
     core::CliArgs args(argc, argv);
     while (args.next()) {
@@ -65,8 +68,9 @@ int main(int argc, char** argv) {
     const auto& mech0 = cfg.mech;
     const auto& flow = cfg.flow;
     analysis::FlowRunOptions o;
-    o.duration_s = seconds;
-    o.settle_s = settle;
+    o.settle_s = settle >= 0 ? settle : cfg.run.settle_s;
+    o.duration_s = seconds > 0 ? seconds : cfg.run.duration_s - o.settle_s;
+    if (!(o.duration_s > 0)) throw std::invalid_argument(config + ": run.duration_s must exceed run.settle_s");
     if (unknowns.empty()) unknowns = analysis::parse_flow_unknowns(flow.calibration_unknowns);
     const auto cal = analysis::calibrate_flow_machine(
         mech0, flow, o, evals, [](const std::string& l) { std::fprintf(stderr, "%s\n", l.c_str()); }, {}, unknowns);

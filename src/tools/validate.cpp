@@ -128,7 +128,7 @@ std::vector<std::string> jackknife_materials(const std::string& dir, bool solid_
 }
 
 // One jackknife material: the machine recalibrated at 400 rpm with it (as `crusher calibrate --flow`: 60 evaluations
-// of 4 s after a 4 s settle), then both speeds run over the main table's windows.
+// over the main table's 400 rpm window), then both speeds run over the main table's windows.
 struct SpreadCase {
   std::string file;
   analysis::FlowCalibration cal;
@@ -142,7 +142,7 @@ SpreadCase run_spread_case(const std::string& file, chamber::FlowRunConfig cfg4,
   SpreadCase c;
   c.file = file;
   analysis::FlowRunOptions cal_o;
-  cal_o.duration_s = 4, cal_o.settle_s = 4;
+  cal_o.duration_s = main400.seconds, cal_o.settle_s = main400.settle_s;
   c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, cal_o, 60, {}, {},
                                            analysis::parse_flow_unknowns(cfg4.flow.calibration_unknowns));
   analysis::FlowRunOptions o;
