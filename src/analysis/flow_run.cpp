@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "chamber/flow_load.hpp"
+#include "core/config_schema.hpp"
 #include "mbd/mechanism.hpp"
 
 namespace analysis {
@@ -95,6 +96,16 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.summary.wall_s = r.wall_s;
   r.summary.load = "flow";
   return r;
+}
+
+FlowRunOptions run_window(const core::RunOptions& run, const std::string& who, double seconds, double settle) {
+  FlowRunOptions o;
+  o.settle_s = settle >= 0 ? settle : run.settle_s;
+  o.duration_s = seconds > 0 ? seconds : run.duration_s - o.settle_s;
+  if (!(o.duration_s > 0))
+    throw std::invalid_argument(who + ": run.duration_s must exceed the settle time (" +
+                                core::format_number(o.settle_s) + " s)");
+  return o;
 }
 
 std::map<std::string, double> table5_values(const FlowRunResult& r) {

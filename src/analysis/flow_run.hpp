@@ -7,6 +7,7 @@
 
 #include "analysis/run_metrics.hpp"
 #include "chamber/flow_model.hpp"
+#include "core/run_config.hpp"
 #include "mbd/mechanism_params.hpp"
 
 namespace analysis {
@@ -34,6 +35,11 @@ struct FlowRunResult {
 };
 
 FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowParams& flow, const FlowRunOptions& o);
+
+// The window a config's run reports (`crusher run CONFIG`): run.settle_s, then run.duration_s - settle_s; seconds > 0
+// or settle >= 0 override them. std::invalid_argument, naming `who`, when the window is empty. What `validate`,
+// `calibrate --flow` and `diagnose --summary` run over, so what is calibrated is what is shown.
+FlowRunOptions run_window(const core::RunOptions& run, const std::string& who, double seconds = -1, double settle = -1);
 
 // Table 5's quantities of a run, by the names `validate` and summary recordings use (summary_data.hpp):
 // amplitude_x_mm_mean/std, power_kW_mean/std, throughput_tph, specific_energy_kWh_per_t, p80_mm, passing_12mm_pct,

@@ -67,10 +67,7 @@ int main(int argc, char** argv) {
     const auto cfg = chamber::load_flow_run_config(config);
     const auto& mech0 = cfg.mech;
     const auto& flow = cfg.flow;
-    analysis::FlowRunOptions o;
-    o.settle_s = settle >= 0 ? settle : cfg.run.settle_s;
-    o.duration_s = seconds > 0 ? seconds : cfg.run.duration_s - o.settle_s;
-    if (!(o.duration_s > 0)) throw std::invalid_argument(config + ": run.duration_s must exceed run.settle_s");
+    const analysis::FlowRunOptions o = analysis::run_window(cfg.run, config, seconds, settle);
     if (unknowns.empty()) unknowns = analysis::parse_flow_unknowns(flow.calibration_unknowns);
     const auto cal = analysis::calibrate_flow_machine(
         mech0, flow, o, evals, [](const std::string& l) { std::fprintf(stderr, "%s\n", l.c_str()); }, {}, unknowns);

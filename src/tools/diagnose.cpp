@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "analysis/diagnosis.hpp"
+#include "analysis/flow_run.hpp"
 #include "analysis/mbd_model.hpp"
 #include "analysis/plant_export.hpp"
 #include "analysis/summary_diagnosis.hpp"
@@ -242,9 +243,9 @@ int main(int argc, char** argv) {
       for (const auto& t : cfg.uncertain()) candidates.push_back(t);
       const auto data = read_summary(summary);
       const auto run = cfg.flow_run({}, candidates).run;
-      if (!settle_given) settle_s = run.settle_s;
-      if (!model_seconds_given) model_seconds = run.duration_s - settle_s;
-      if (!(model_seconds > 0)) throw std::invalid_argument("--model-seconds must be positive (the config's run.duration_s minus settle)");
+      const analysis::FlowRunOptions w =
+          analysis::run_window(run, config, model_seconds_given ? model_seconds : -1, settle_given ? settle_s : -1);
+      model_seconds = w.duration_s, settle_s = w.settle_s;
       std::cerr << "diagnose: summary " << summary << " (" << data.rows.size() << " speeds), model " << config
                 << " (flow, " << model_seconds << " s after " << settle_s << " s)\n";
       SummaryDiagnosisOptions so;

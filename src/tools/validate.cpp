@@ -62,17 +62,13 @@ Case run_case(const std::string& file, const chamber::FlowRunConfig& cfg, const 
               double settle) {
   const auto& [mech, flow, run] = cfg;
   // The config's own run, as `crusher run CONFIG` does it: run.duration_s in all, the summary after run.settle_s.
-  if (settle < 0) settle = run.settle_s;
-  if (seconds <= 0) seconds = run.duration_s - settle;
-  if (!(seconds > 0)) throw std::invalid_argument(file + ": run.duration_s must exceed the settle time");
+  const analysis::FlowRunOptions w = analysis::run_window(run, file, seconds, settle);
+  seconds = w.duration_s, settle = w.settle_s;
   Case c;
   c.simulated_s = seconds + settle;
   c.settle_s = settle, c.seconds = seconds;
   if (load == "flow") {
-    analysis::FlowRunOptions o;
-    o.duration_s = seconds;
-    o.settle_s = settle;
-    const auto r = analysis::run_flow(mech, flow, o);
+    const auto r = analysis::run_flow(mech, flow, w);
     c.v = analysis::table5_values(r);
   } else {
     mbd::SimOptions o;
@@ -141,12 +137,10 @@ SpreadCase run_spread_case(const std::string& file, chamber::FlowRunConfig cfg4,
   cfg4.flow.material = m, cfg6.flow.material = m;
   SpreadCase c;
   c.file = file;
-  analysis::FlowRunOptions cal_o;
-  cal_o.duration_s = main400.seconds, cal_o.settle_s = main400.settle_s;
-  c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, cal_o, 60, {}, {},
-                                           analysis::parse_flow_unknowns(cfg4.flow.calibration_unknowns));
-  analysis::FlowRunOptions o;
+  analysis::FlowRunOptions o;  // the main table's 400 rpm window: calibrated over, then reported
   o.settle_s = main400.settle_s, o.duration_s = main400.seconds;
+  c.cal = analysis::calibrate_flow_machine(cfg4.mech, cfg4.flow, o, 60, {}, {},
+                                           analysis::parse_flow_unknowns(cfg4.flow.calibration_unknowns));
   c.v400 = analysis::table5_values(analysis::run_flow(c.cal.mech, cfg4.flow, o));
   o.settle_s = main600.settle_s, o.duration_s = main600.seconds;
   c.v600 = analysis::table5_values(
