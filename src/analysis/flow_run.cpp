@@ -23,7 +23,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   FlowRunResult r;
   auto& s = r.signals;
   chamber::ProductWindow win;
-  double nut = 0;
+  double nut = 0, spin = 0;
   long nut_n = 0;
   const long trace = o.trace_every_s > 0 ? std::max(1L, std::lround(o.trace_every_s / dt)) : 0;
   double fed0 = 0, out0 = 0, work0 = 0, tr_nut = 0;
@@ -42,7 +42,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
         fed0 = f.fed_kg(), out0 = f.discharged_kg(), work0 = work, tr_nut = 0;
       }
     }
-    if (i > settle) nut += m.nutation_angle(), ++nut_n;
+    if (i > settle) nut += m.nutation_angle(), spin += m.mantle_spin(), ++nut_n;
     if (i % every == 0) {
       const auto tp = m.test_point();
       const auto d = m.drive();
@@ -73,6 +73,8 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.chamber_kg = load.model().mass_kg();
   r.crushing_kW = (win.energy1 - win.energy0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
   r.mean_nutation_deg = nut_n ? nut / nut_n * 180 / M_PI : 0;
+  r.friction_kW = (win.friction1 - win.friction0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
+  r.mean_spin_rpm = nut_n ? spin / nut_n * 30 / M_PI : 0;
   const auto& fm = load.model();
   for (int b = 0; b < fm.bands(); ++b) {
     FlowRunResult::Band band;

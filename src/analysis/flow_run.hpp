@@ -26,6 +26,8 @@ struct FlowRunResult {
   double product_compressions = 0;  // mean compression events of the rock discharged in the run
   double chamber_kg = 0;            // charge at the end
   double crushing_kW = 0;           // crushing energy booked by the events in the window, per second
+  double friction_kW = 0;           // the rock's friction on the liners (flow.effects.liner_friction), per second
+  double mean_spin_rpm = 0;         // the mantle's spin about its axis relative to the concave, over the window
   double mean_nutation_deg = 0;     // over the window
   double wall_s = 0;
   struct Band {  // per height band at the end, over its sectors

@@ -48,6 +48,8 @@ std::vector<Term> module_candidates() {
       // The nip's escape path is at most a few cells long; from ~20 mm on the friction hill is too stiff for the
       // mechanism's explicit coupling (30 mm blows up at 400 and 600 rpm; src/chamber/README.md).
       term("flow", "squeeze_flow", "escape_length_mm", "mm", 0.0, 15.0, 0.0),
+      // Up to rock on steel (Table 4); the bed may shear within itself at less.
+      term("flow", "liner_friction", "wall_friction", "", 0.0, 0.7, 0.0),
   };
 }
 
@@ -103,14 +105,15 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
   return p;
 }
 
-std::string flow_effect_names() { return "feed_limited, worn_liners, squeeze_flow"; }
+std::string flow_effect_names() { return "feed_limited, worn_liners, squeeze_flow, liner_friction"; }
 bool is_flow_effect(const std::string& effect) {
-  return effect == "feed_limited" || effect == "worn_liners" || effect == "squeeze_flow";
+  return effect == "feed_limited" || effect == "worn_liners" || effect == "squeeze_flow" || effect == "liner_friction";
 }
 
 chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value) {
   chamber::FlowParams f = base;
-  f.effects.feed_limited.enabled = f.effects.worn_liners.enabled = f.effects.squeeze_flow.enabled = false;
+  f.effects.feed_limited.enabled = f.effects.worn_liners.enabled = f.effects.squeeze_flow.enabled =
+      f.effects.liner_friction.enabled = false;
   if (effect == "feed_limited") {
     if (!(value > 0)) throw std::invalid_argument("feed_limited: max_feed_tph must be > 0, got " + std::to_string(value));
     f.effects.feed_limited.enabled = true;
@@ -127,6 +130,11 @@ chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std:
                                   "], got " + std::to_string(value));
     f.effects.squeeze_flow.enabled = true;
     f.effects.squeeze_flow.escape_length_m = value * 1e-3;  // YAML: mm
+  } else if (effect == "liner_friction") {
+    if (!(value >= 0 && value <= 2))
+      throw std::invalid_argument("liner_friction: wall_friction must be in [0, 2], got " + std::to_string(value));
+    f.effects.liner_friction.enabled = true;
+    f.effects.liner_friction.wall_friction = value;
   } else if (effect != "none" && (", " + mbd_effect_names() + ",").find(", " + effect + ",") == std::string::npos) {
     throw std::invalid_argument("unknown effect '" + effect + "'; accepted: none, " + mbd_effect_names() + ", " +
                                 flow_effect_names());

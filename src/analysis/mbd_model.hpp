@@ -21,12 +21,12 @@ struct MbdModelOptions {
 std::vector<Term> mbd_candidates();
 // Terms for the bearing, drive and chamber modules (bearing_friction mu 0-0.1, drive_efficiency efficiency 0.5-1
 // (nominal 1), feed_limited max_feed_tph 20-200 (nominal 200: above both choke-fed rates, off), worn_liners
-// setting_increase_mm 0-30, squeeze_flow escape_length_mm 0-15), with their plausible ranges; not in mbd_candidates(). The chamber ones act in flow runs
+// setting_increase_mm 0-30, squeeze_flow escape_length_mm 0-15, liner_friction wall_friction 0-0.7), with their plausible ranges; not in mbd_candidates(). The chamber ones act in flow runs
 // only (section "flow"); a feed-limited flow run needs a settle of ~30 s (src/chamber/README.md).
 std::vector<Term> module_candidates();
 // The diagnosis's effect candidates: for time series (the mechanism under the bed load: mbd_candidates() plus
 // bearing_friction and drive_efficiency) and for summaries (the fast mode: those plus the chamber's feed_limited,
-// worn_liners and squeeze_flow).
+// worn_liners, squeeze_flow and liner_friction).
 std::vector<Term> series_candidates();
 std::vector<Term> summary_candidates();
 // The mechanism's effects with_effect accepts, comma separated (mbd.effects.<name>).
@@ -41,7 +41,7 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
 std::string flow_effect_names();
 bool is_flow_effect(const std::string& effect);
 // base with the chamber effect `effect` enabled at main-parameter `value` (YAML units): feed_limited max_feed_tph,
-// worn_liners setting_increase_mm, squeeze_flow escape_length_mm (the others keep base's values); "none" or a mechanism effect: every chamber effect
+// worn_liners setting_increase_mm, squeeze_flow escape_length_mm, liner_friction wall_friction (the others keep base's values); "none" or a mechanism effect: every chamber effect
 // off. Throws std::invalid_argument for an unknown name. with_effect refuses a chamber effect by name (it has nothing
 // to switch on in the mechanism): give the mechanism "none" and the flow parameters the effect.
 chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value);

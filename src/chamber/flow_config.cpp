@@ -127,8 +127,17 @@ const core::Schema<FlowParams>& flow_schema() {
                 [](P& p) -> double& { return p.effects.squeeze_flow.escape_length_m; },
                 "path along the liners from the nip to where the pressed-out rock is free (main parameter; "
                 "30 mm blows up the mechanism's explicit coupling)")
-        .plausible(0.5, SqueezeFlow::kMaxEscapeLength_mm, kMetresForMm, "");
+        .plausible(0.5, SqueezeFlow::kMaxEscapeLength_mm, kMetresForMm, "")
+        .boolean("effects.liner_friction.enabled", [](P& p) -> bool& { return p.effects.liner_friction.enabled; },
+                 "the pressed rock's Coulomb friction against the mantle's slip over it")
+        .number("effects.liner_friction.wall_friction", "", 1, 0.0, 2.0,
+                [](P& p) -> double& { return p.effects.liner_friction.wall_friction; },
+                "Coulomb friction of the pressed rock on the liners (main parameter; rock on steel 0.7, Table 4)")
+        .number("effects.liner_friction.regularisation_mm_s", "mm/s", u::mm, 0.001, 1000.0,
+                [](P& p) -> double& { return p.effects.liner_friction.regularisation_m_s; },
+                "slip speed over which the friction rises to mu N (tanh; 20 mm/s chatters at a 1 ms step)");
     k.flow_style("effects.feed_limited");
+    k.flow_style("effects.liner_friction");
     k.flow_style("effects.squeeze_flow");
     k.flow_style("effects.worn_liners");
     return k;

@@ -10,8 +10,11 @@ FlowLoad::FlowLoad(const FlowParams& p, const mbd::MechanismParams& m)
 void FlowLoad::step(mbd::Mechanism& mech) {
   using mbd::BodyId;
   const auto M = mech.body(BodyId::FloatingCone), C = mech.body(BodyId::FixedCone);
+  LinerTwists tw;
+  tw.v_mantle = M.linear_velocity, tw.w_mantle = M.angular_velocity;
+  tw.v_concave = C.linear_velocity, tw.w_concave = C.angular_velocity;
   last_ = model_.step(mech.liner_pose(BodyId::FloatingCone), mech.liner_pose(BodyId::FixedCone), M.position,
-                      C.position, mech.dt(), mech.params().gravity_m_s2);
+                      C.position, mech.dt(), mech.params().gravity_m_s2, &tw);
   mech.set_particle_wrench(BodyId::FloatingCone, last_.f_mantle, last_.t_mantle);
   mech.set_particle_wrench(BodyId::FixedCone, last_.f_concave, last_.t_concave);
   mech.step();
@@ -34,6 +37,7 @@ ProductWindow snapshot(const FlowModel& m, double t) {
   w.t0 = w.t1 = t;
   w.discharged0 = w.discharged1 = m.discharged_by_class();
   w.energy0 = w.energy1 = m.crushing_energy_J();
+  w.friction0 = w.friction1 = m.friction_energy_J();
   return w;
 }
 
@@ -41,6 +45,7 @@ void close_window(ProductWindow& w, const FlowModel& m, double t) {
   w.t1 = t;
   w.discharged1 = m.discharged_by_class();
   w.energy1 = m.crushing_energy_J();
+  w.friction1 = m.friction_energy_J();
 }
 
 }  // namespace chamber

@@ -82,6 +82,10 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
           "effects.worn_liners needs setting_increase_mm in [0, 100] and worn_height_fraction in (0, 1]");
   cells_ = core::concave_cells(wl.enabled ? worn_concave(concave, z_lo, z_hi, wl) : concave, z_lo, z_hi, p.bands,
                                p.sectors);
+  const auto& lf = p.effects.liner_friction;
+  require(!lf.enabled || (lf.wall_friction >= 0 && lf.wall_friction <= 2 && lf.regularisation_m_s > 0 &&
+                          lf.regularisation_m_s <= 1),
+          "effects.liner_friction needs wall_friction in [0, 2] and regularisation_mm_s in (0, 1000]");
   const auto& sf = p.effects.squeeze_flow;
   require(!sf.enabled || (sf.wall_friction >= 0 && sf.wall_friction <= 2 && sf.escape_length_m >= 0 &&
                           sf.escape_length_m <= SqueezeFlow::kMaxEscapeLength_m),
@@ -214,8 +218,11 @@ double FlowModel::break_fresh(double* f, const double* pressed, double s0, doubl
 }
 
 FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave,
-                          const Eigen::Vector3d& com_m, const Eigen::Vector3d& com_c, double h, double gravity) {
+                          const Eigen::Vector3d& com_m, const Eigen::Vector3d& com_c, double h, double gravity,
+                          const LinerTwists* twists) {
   FlowLoads out;
+  const LinerFriction& lf = p_.effects.liner_friction;
+  const LinerTwists* slip = lf.enabled ? twists : nullptr;
   const Eigen::Isometry3d to_mantle = mantle.inverse(), concave_to_mantle = to_mantle * concave;
   const std::size_t S = static_cast<std::size_t>(p_.sectors), C = classes();
   const auto& mat = p_.material;
@@ -365,6 +372,15 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     out.f_mantle -= F;
     out.t_mantle += (X - g * n - com_m).cross(-F);
     out.normal_force += p * cells_.area[b];
+    if (slip) {  // the rock's friction against the mantle's slip, at the middle of the gap
+      const Eigen::Vector3d Xm = X - 0.5 * g * n, v_t = liner_slip(*slip, Xm, n, com_m, com_c);
+      const Eigen::Vector3d Ff = liner_friction_force(lf, p * cells_.area[b], v_t);
+      out.f_mantle += Ff;
+      out.t_mantle += (Xm - com_m).cross(Ff);
+      out.f_concave -= Ff;
+      out.t_concave += (Xm - com_c).cross(-Ff);
+      friction_ -= Ff.dot(v_t) * h;
+    }
   }
   // Rock at the compaction limit does not compact further: what was pressed into a cell below that this step had left at
   // its limit goes on down in the same step, as far as a cell with room (or out), not one band per step.
@@ -430,6 +446,8 @@ std::vector<double> FlowModel::fingerprint() const {
                      double(p_.choke_feed), double(p_.compaction_memory)});
   if (m.lump_std > 0) f.insert(f.end(), {m.lump_std, double(p_.seed)});  // (without: as before the scatter)
   if (m.solid_divergence) f.push_back(-2.0);  // the diverging law (without: as before it)
+  const auto& lf = p_.effects.liner_friction;
+  if (lf.enabled) f.insert(f.end(), {-3.0, lf.wall_friction, lf.regularisation_m_s});  // (without: as before it)
   return f;
 }
 
@@ -463,6 +481,10 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
     w.tag("SCAT");
     w.put_vec(scatter_);
     w.put_string(draws_.state());
+  }
+  if (p_.effects.liner_friction.enabled) {
+    w.tag("FRIC");
+    w.put(friction_);
   }
 }
 
@@ -514,6 +536,10 @@ void FlowModel::load_state(core::BinaryReader& r) {
     r.get_vec(scatter);
     if (scatter.size() != n || !draws_.set_state(r.get_string())) r.fail("flow model state is corrupt");
     scatter_ = scatter;
+  }
+  if (p_.effects.liner_friction.enabled) {
+    r.expect("FRIC");
+    r.get(friction_);
   }
 }
 

@@ -26,7 +26,8 @@
 //  - Liners: new, or the concave worn over the lower chamber (effects.worn_liners, liner_wear.hpp).
 //  - Scatter: with material.lump_std > 0, each pressing of a cell has its own strength, a factor of mean 1 on the
 //    bed law's pressure whose std falls with the number of lumps the cell holds (bed_scatter.hpp).
-//  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques).
+//  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques); with
+//    effects.liner_friction, the rock's friction against the mantle's slip as well.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <vector>
@@ -34,6 +35,7 @@
 #include "chamber/bed_compaction.hpp"
 #include "chamber/bed_scatter.hpp"
 #include "chamber/breakage.hpp"
+#include "chamber/liner_friction.hpp"
 #include "core/binary_io.hpp"
 #include "core/chamber_geometry.hpp"
 #include "mbd/bed_law.hpp"
@@ -96,10 +98,13 @@ struct SqueezeFlow {
   double wall_friction = 0.7;    // rock on steel, static (Table 4)
   double escape_length_m = 0.0;  // config: escape_length_mm
 };
+// liner_friction: the pressed rock's Coulomb friction on the liners (liner_friction.hpp); acts where step() is given
+// the liners' twists (the fast mode; not the coupled run's fines, whose coarse rock is the DEM's with its own friction).
 struct FlowEffects {
   FeedLimited feed_limited;
   WornLiners worn_liners;
   SqueezeFlow squeeze_flow;
+  LinerFriction liner_friction;
 };
 
 struct FlowParams {
@@ -147,9 +152,10 @@ class FlowModel {
   double band_bottom(int b) const { return cells_.z_lo + b * cells_.dz; }  // z (m, liner frame) where band b starts
   double band_height() const { return cells_.dz; }                         // m; sector s spans [s, s + 1] 2 pi / sectors
 
-  // Presses, breaks, moves and feeds the rock at the liners' pose (liner frame -> world) over h seconds.
+  // Presses, breaks, moves and feeds the rock at the liners' pose (liner frame -> world) over h seconds. twists: the
+  // liners' velocities (effects.liner_friction acts only with them).
   FlowLoads step(const Eigen::Isometry3d& mantle, const Eigen::Isometry3d& concave, const Eigen::Vector3d& com_mantle,
-                 const Eigen::Vector3d& com_concave, double h, double gravity);
+                 const Eigen::Vector3d& com_concave, double h, double gravity, const LinerTwists* twists = nullptr);
 
   // Adds rock to cell k (kg per class; no compressions yet), counted as fed. Tests.
   void deposit(std::size_t k, const std::vector<double>& class_kg);
@@ -177,6 +183,8 @@ class FlowModel {
   // including the work of pressing rock out of the nip at the compaction limit (extrusion_energy_J, a part of it).
   double crushing_energy_J() const { return energy_; }
   double extrusion_energy_J() const { return extrusion_; }
+  // Work of the liners against the rock's friction so far (J; effects.liner_friction), not in crushing_energy_J.
+  double friction_energy_J() const { return friction_; }
   long events() const { return events_; }  // compression events of at least 2 % so far
   double product_compressions() const;  // mean compression events of the discharged rock
   // Cumulative fraction passing each sieve of a mass-by-class vector (0..1).
@@ -214,7 +222,7 @@ class FlowModel {
   // its bed pressure (drawn when a pressing starts), the draws.
   std::vector<double> lump_kg_, scatter_;
   ScatterDraws draws_;
-  double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0;
+  double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0, friction_ = 0;
   long events_ = 0;
   bool prefilled_ = false;
 

@@ -82,8 +82,8 @@ int main(int argc, char** argv) {
     std::printf("throughput_tph %.2f specific_energy_kWh_per_t %.3f crushing_kW %.2f chamber_kg %.1f compressions %.2f\n",
                 p.throughput_tph, p.throughput_tph > 0 ? s.power_kW.mean / p.throughput_tph : NAN, res.crushing_kW,
                 res.chamber_kg, res.product_compressions);
-    std::printf("P80_mm %.2f passing_12mm_pct %.1f passing_1mm_pct %.2f\npsd", res.p80_mm, res.passing_12mm_pct,
-                res.passing_1mm_pct);
+    std::printf("P80_mm %.2f passing_12mm_pct %.1f passing_1mm_pct %.2f friction_kW %.2f mantle_spin_rpm %.2f\npsd",
+                res.p80_mm, res.passing_12mm_pct, res.passing_1mm_pct, res.friction_kW, res.mean_spin_rpm);
     for (std::size_t k = 0; k < p.sieve_mm.size(); ++k) std::printf(" %g:%.1f", p.sieve_mm[k], p.passing_pct[k]);
     std::printf("\n");
     if (exact) {

@@ -33,7 +33,7 @@ using namespace analysis;
 int main(int argc, char** argv) {
   const char* usage =
       "usage: make_recording --config BASE.yaml --effect none|joint_friction|absorber_nonlinearity|motor_droop|"
-      "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners|squeeze_flow --value V [--load bed|flow "
+      "cardan_misalignment|bearing_friction|drive_efficiency|feed_limited|worn_liners|squeeze_flow|liner_friction --value V [--load bed|flow "
       "(default bed)] [--noise-std R (fraction, default 0.01)] [--time-offset-s S (default 0)] "
       "[--gain G (default 1)] [--zero-offset-mm DX,DY,DZ (default 0,0,0)] [--seconds S (default 10)] [--seed N (default 1)] [--speed-rpm RPM (default: "
       "config)] [--settle-s S (default 4)] [--set KEY=V] [--scale KEY=F] (repeatable: a config value concealed,\n"

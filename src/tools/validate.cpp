@@ -354,6 +354,7 @@ int main(int argc, char** argv) {
         {fe.feed_limited.enabled, "flow.effects.feed_limited (test/chamber/test_chamber_effects.cpp)"},
         {fe.worn_liners.enabled, "flow.effects.worn_liners (test/chamber/test_chamber_effects.cpp)"},
         {fe.squeeze_flow.enabled, "flow.effects.squeeze_flow (test/chamber/test_chamber_effects.cpp)"},
+        {fe.liner_friction.enabled, "flow.effects.liner_friction (test/chamber/test_chamber_effects.cpp)"},
         {cfg.flow.material.solid_divergence,
          "flow.material.pressure.law solid_divergence (test/chamber/test_flow_model.cpp, test_piston_die.cpp)"}};
     bool first_law = true;

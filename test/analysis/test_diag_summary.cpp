@@ -128,6 +128,10 @@ TEST(SummaryDiagnosis, NamesConcealedWornLiners) { expect_chamber_effect_named("
 // the shipped model).
 TEST(SummaryDiagnosis, NamesConcealedSqueezeFlow) { expect_chamber_effect_named("squeeze_flow", 4.0); }
 
+// The rock's friction on the liners at half rock on steel's (it damps the mantle's gyration: amplitude and power fall at
+// both speeds on the shipped model).
+TEST(SummaryDiagnosis, NamesConcealedLinerFriction) { expect_chamber_effect_named("liner_friction", 0.35); }
+
 // A candidate that fits the means but makes the model's cycles scatter more than the plant's (its 400 rpm power std
 // above the plant's 3.97 kW: a mechanism near a blow-up, as squeeze_flow at 1.8 mm on the shipped model) makes a row
 // worse and is not named; the steady candidate that explains a little less is. Synthetic model: the plant's means

@@ -46,6 +46,12 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
   EXPECT_TRUE(q.effects.squeeze_flow.enabled);
   EXPECT_NEAR(q.effects.squeeze_flow.escape_length_m, 4e-3, 1e-15);
   EXPECT_FALSE(q.effects.worn_liners.enabled);
+  EXPECT_TRUE(analysis::is_flow_effect("liner_friction"));
+  const auto lf = analysis::with_flow_effect(q, "liner_friction", 0.35);
+  EXPECT_TRUE(lf.effects.liner_friction.enabled);
+  EXPECT_DOUBLE_EQ(lf.effects.liner_friction.wall_friction, 0.35);
+  EXPECT_FALSE(lf.effects.squeeze_flow.enabled);
+  EXPECT_THROW(analysis::with_flow_effect(base, "liner_friction", 3.0), std::invalid_argument);
   // A mechanism effect (or none) leaves every chamber effect off.
   EXPECT_FALSE(analysis::with_flow_effect(w, "bearing_friction", 0.02).effects.worn_liners.enabled);
   EXPECT_THROW(analysis::with_flow_effect(base, "worn_liner", 1.0), std::invalid_argument);
@@ -63,7 +69,7 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
 TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
   const analysis::ConfigModel cfg(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/gyp1200_400rpm.yaml");
   const auto terms = analysis::module_candidates();
-  ASSERT_EQ(terms.size(), 5u);
+  ASSERT_EQ(terms.size(), 6u);
   for (const auto& t : terms) {
     EXPECT_TRUE(t.lo <= t.nominal && t.nominal <= t.hi) << t.name;
     const double v = 0.5 * (t.lo + t.hi);
@@ -95,6 +101,10 @@ TEST(EffectHelpers, ModuleTermsSwitchTheirModulesThroughTheConfigKeys) {
       EXPECT_TRUE(f.squeeze_flow.enabled);
       EXPECT_NEAR(f.squeeze_flow.escape_length_m, v * 1e-3, 1e-15);
       EXPECT_FALSE(off.flow.effects.squeeze_flow.enabled);
+    } else if (t.name == "liner_friction") {
+      EXPECT_TRUE(f.liner_friction.enabled);
+      EXPECT_DOUBLE_EQ(f.liner_friction.wall_friction, v);
+      EXPECT_FALSE(off.flow.effects.liner_friction.enabled);
     } else {
       ADD_FAILURE() << "unexpected term " << t.name;
     }

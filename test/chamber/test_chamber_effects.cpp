@@ -299,3 +299,118 @@ TEST(SqueezeFlow, KeysLoadAndBadValuesAreRefusedByName) {
 }
 
 }  // namespace
+
+// The rock's friction on the liners (liner_friction.hpp): mu N tanh(|v_t| / v_reg) against the mantle's tangential
+// slip, the normal part of the relative velocity left out; no load or no slip: none; far above v_reg: Coulomb's mu N.
+TEST(LinerFriction, CoulombAgainstTheTangentialSlip) {
+  chamber::LinerFriction f;
+  f.wall_friction = 0.7;
+  f.regularisation_m_s = 0.05;
+  const Eigen::Vector3d n = Eigen::Vector3d(1, 2, 2) / 3.0, t = Eigen::Vector3d(2, -2, 1) / 3.0;  // n . t = 0
+  chamber::LinerTwists tw;
+  tw.v_mantle = 0.3 * n + 0.02 * t;  // closing at 0.3 m/s, sliding at 20 mm/s
+  const Eigen::Vector3d com(0.1, -0.2, 0.4), x(0.5, 0.1, -0.3);
+  const Eigen::Vector3d v_t = chamber::liner_slip(tw, x, n, com, com);
+  EXPECT_NEAR((v_t - 0.02 * t).norm(), 0.0, 1e-15);
+  const Eigen::Vector3d F = chamber::liner_friction_force(f, 1000.0, v_t);
+  EXPECT_NEAR(F.norm(), 0.7 * 1000.0 * std::tanh(0.02 / 0.05), 1e-9);
+  EXPECT_NEAR(F.normalized().dot(t), -1.0, 1e-12);
+  EXPECT_NEAR(chamber::liner_friction_force(f, 1000.0, 0.6 * t).norm(), 700.0, 1e-6);  // 12 v_reg: mu N to 1e-9
+  EXPECT_EQ(chamber::liner_friction_force(f, 0.0, v_t), Eigen::Vector3d::Zero());
+  EXPECT_EQ(chamber::liner_friction_force(f, 1000.0, Eigen::Vector3d::Zero()), Eigen::Vector3d::Zero());
+  // A spinning concave under a still mantle slips the other way: the slip is the mantle's relative to the concave.
+  chamber::LinerTwists spin;
+  spin.w_concave = Eigen::Vector3d(0, 0, 2.0);
+  const Eigen::Vector3d xr(0.5, 0, 0), nr(1, 0, 0);
+  EXPECT_NEAR((chamber::liner_slip(spin, xr, nr, com, Eigen::Vector3d::Zero()) - Eigen::Vector3d(0, -1.0, 0)).norm(),
+              0.0, 1e-15);
+}
+
+// In the model: coaxial cylinders, the mantle pressed 20 mm to one side, then spinning about its own axis at w. Every
+// pressed cell adds mu p A tanh(w rho / v_reg) against the slip at the middle of its gap (rho from the mantle's axis), so
+// the mantle's torque about its axis is minus the sum of mu p A tanh(.) rho; the concave gets the reaction (forces and
+// torques about a common point sum to zero); the friction's work booked is the sum of mu p A tanh(.) w rho h, apart
+// from the crushing energy; without the effect the twists change nothing. A checkpoint carries the friction's work and
+// the effect (a model without it refuses the file).
+TEST(LinerFriction, ASpinningMantleGetsTheFrictionTorqueAndTheConcaveItsReaction) {
+  const auto mantle = test_liners::cylinder(0.3), concave = test_liners::cylinder(0.35, -0.8, -0.2);
+  const double h = 1e-3, w = 0.8, dx = 0.02;
+  const Eigen::Vector3d com_m(dx, 0, -0.5);
+  auto run = [&](bool on, chamber::FlowParams* params) {
+    auto p = test_liners::flow_params(6, 16, true);
+    p.effects.liner_friction.enabled = on;
+    *params = p;
+    auto m = std::make_unique<chamber::FlowModel>(p, mantle, concave);
+    m->step(kRest, kRest, kComM, kComC, h, 0.0);
+    for (int i = 1; i <= 200; ++i) m->step(test_liners::shifted({dx * i / 200, 0, 0}), kRest, com_m, kComC, h, 0.0);
+    return m;
+  };
+  chamber::LinerTwists tw;
+  tw.w_mantle = Eigen::Vector3d(0, 0, w);
+  const auto pose = test_liners::shifted({dx, 0, 0});
+  chamber::FlowParams p_off, p_on;
+  auto off = run(false, &p_off);
+  const auto plain = off->step(pose, kRest, com_m, kComC, h, 0.0);
+  auto off2 = run(false, &p_off);
+  const auto twisted = off2->step(pose, kRest, com_m, kComC, h, 0.0, &tw);
+  EXPECT_EQ(plain.f_mantle, twisted.f_mantle);
+  EXPECT_EQ(plain.t_mantle, twisted.t_mantle);
+  EXPECT_EQ(off2->friction_energy_J(), 0.0);
+
+  auto m = run(true, &p_on);
+  const double e0 = m->crushing_energy_J();
+  const auto L = m->step(pose, kRest, com_m, kComC, h, 0.0, &tw);
+  const auto& lf = p_on.effects.liner_friction;
+  double torque = 0, power = 0, normal = 0;
+  int pressed = 0;
+  for (std::size_t k = 0; k < m->cells(); ++k) {
+    const double N = m->cell_pressure(k) * m->cell_area(k);
+    if (N <= 0) continue;
+    ++pressed;
+    const Eigen::Vector3d x = m->cell_point(k);
+    const double rho = std::hypot(x.x() - dx, x.y()) - 0.5 * m->cell_gap(k);  // middle of the gap, from the mantle's axis
+    const double f = lf.wall_friction * N * std::tanh(w * rho / lf.regularisation_m_s);
+    torque -= f * rho, power += f * w * rho, normal += N;
+  }
+  ASSERT_GT(pressed, 0);
+  EXPECT_NEAR(L.normal_force, normal, 1e-9 * normal);
+  EXPECT_NEAR(L.t_mantle.z(), torque, 1e-9 * std::abs(torque));
+  EXPECT_LT(torque, -0.1 * 0.7 * normal * 0.3);  // the friction is not small beside mu N rho
+  EXPECT_NEAR((L.f_mantle + L.f_concave).norm(), 0.0, 1e-9 * normal);
+  const Eigen::Vector3d about_origin = L.t_mantle + com_m.cross(L.f_mantle) + L.t_concave + kComC.cross(L.f_concave);
+  EXPECT_NEAR(about_origin.norm(), 0.0, 1e-9 * normal);
+  EXPECT_NEAR(m->friction_energy_J(), power * h, 1e-9 * power * h);
+  EXPECT_NEAR(m->crushing_energy_J(), e0, 1e-9 * e0);  // the pose did not change: no crushing work in that step
+
+  auto copy = test_liners::resumed(*m, p_on, mantle, concave);
+  EXPECT_EQ(copy->friction_energy_J(), m->friction_energy_J());
+  std::stringstream file;
+  core::BinaryWriter wr(file);
+  m->save_state(wr);
+  chamber::FlowModel without(p_off, mantle, concave);
+  core::BinaryReader rd(file, "flow test checkpoint");
+  EXPECT_THROW(without.load_state(rd), std::exception);
+}
+
+TEST(LinerFriction, KeysLoadAndBadValuesAreRefusedByName) {
+  const auto f = chamber::load_flow_params(core::ConfigNode::load_string(
+      "effects:\n  liner_friction: {enabled: true, wall_friction: 0.5, regularisation_mm_s: 20}\n", "test"));
+  EXPECT_TRUE(f.effects.liner_friction.enabled);
+  EXPECT_DOUBLE_EQ(f.effects.liner_friction.wall_friction, 0.5);
+  EXPECT_NEAR(f.effects.liner_friction.regularisation_m_s, 0.02, 1e-15);
+  EXPECT_DOUBLE_EQ(chamber::FlowParams().effects.liner_friction.wall_friction, 0.7);  // Table 4, rock on steel
+  EXPECT_FALSE(chamber::FlowParams().effects.liner_friction.enabled);
+  const std::pair<const char*, const char*> bad[] = {
+      {"{enabled: true, wall_friction: 7}", "wall_friction"},
+      {"{enabled: true, regularisation_mm_s: 0}", "regularisation_mm_s"},
+  };
+  for (const auto& [yaml, words] : bad) {
+    try {
+      chamber::load_flow_params(
+          core::ConfigNode::load_string(std::string("effects:\n  liner_friction: ") + yaml, "test"));
+      ADD_FAILURE() << "expected a throw: " << yaml;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << yaml << ": " << e.what();
+    }
+  }
+}
