@@ -66,10 +66,42 @@ std::vector<Term> summary_candidates() {
   return c;
 }
 
-std::string mbd_effect_names() {
-  return "joint_friction, absorber_nonlinearity, motor_droop, cardan_misalignment, bearing_friction, "
-         "drive_efficiency";
+const std::vector<EffectModule>& effect_modules() {
+  using M = mbd::MechanismParams;
+  using F = chamber::FlowParams;
+  static const std::vector<EffectModule> modules = {
+      {"mbd", "joint_friction", "test/mbd/test_effects.cpp",
+       [](const M& m, const F&) { return m.effects.joint_friction.enabled; }},
+      {"mbd", "absorber_nonlinearity", "test/mbd/test_effects.cpp",
+       [](const M& m, const F&) { return m.effects.absorber_nonlinearity.enabled; }},
+      {"mbd", "motor_droop", "test/mbd/test_effects.cpp",
+       [](const M& m, const F&) { return m.effects.motor_droop.enabled; }},
+      {"mbd", "cardan_misalignment", "test/mbd/test_effects.cpp",
+       [](const M& m, const F&) { return m.effects.cardan_misalignment.enabled; }},
+      {"mbd", "bearing_friction", "test/mbd/test_bearing_friction.cpp",
+       [](const M& m, const F&) { return m.effects.bearing_friction.enabled; }},
+      {"mbd", "drive_efficiency", "test/mbd/test_drive_efficiency.cpp",
+       [](const M& m, const F&) { return m.effects.drive_efficiency.enabled; }},
+      {"flow", "feed_limited", "test/chamber/test_chamber_effects.cpp",
+       [](const M&, const F& f) { return f.effects.feed_limited.enabled; }},
+      {"flow", "worn_liners", "test/chamber/test_chamber_effects.cpp",
+       [](const M&, const F& f) { return f.effects.worn_liners.enabled; }},
+      {"flow", "squeeze_flow", "test/chamber/test_chamber_effects.cpp",
+       [](const M&, const F& f) { return f.effects.squeeze_flow.enabled; }},
+      {"flow", "liner_friction", "test/chamber/test_chamber_effects.cpp",
+       [](const M&, const F& f) { return f.effects.liner_friction.enabled; }},
+  };
+  return modules;
 }
+
+static std::string effect_names(const std::string& section) {
+  std::string out;
+  for (const auto& e : effect_modules())
+    if (section == e.section) out += (out.empty() ? "" : ", ") + std::string(e.name);
+  return out;
+}
+
+std::string mbd_effect_names() { return effect_names("mbd"); }
 
 mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::string& effect, double value) {
   mbd::MechanismParams p = base;
@@ -105,9 +137,11 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
   return p;
 }
 
-std::string flow_effect_names() { return "feed_limited, worn_liners, squeeze_flow, liner_friction"; }
+std::string flow_effect_names() { return effect_names("flow"); }
 bool is_flow_effect(const std::string& effect) {
-  return effect == "feed_limited" || effect == "worn_liners" || effect == "squeeze_flow" || effect == "liner_friction";
+  for (const auto& e : effect_modules())
+    if (effect == e.name) return std::string(e.section) == "flow";
+  return false;
 }
 
 chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value) {

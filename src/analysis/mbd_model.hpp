@@ -29,6 +29,16 @@ std::vector<Term> module_candidates();
 // worn_liners, squeeze_flow and liner_friction).
 std::vector<Term> series_candidates();
 std::vector<Term> summary_candidates();
+// The omitted-physics modules, one list: config section ("mbd" or "flow"; keys <section>.effects.<name>), name, the
+// test file of its law, and whether it is on in given parameters. The names below, validate's list of the laws a model
+// turns on and the diagnosis's switches follow it.
+struct EffectModule {
+  const char* section;
+  const char* name;
+  const char* test;
+  bool (*enabled)(const mbd::MechanismParams&, const chamber::FlowParams&);
+};
+const std::vector<EffectModule>& effect_modules();
 // The mechanism's effects with_effect accepts, comma separated (mbd.effects.<name>).
 std::string mbd_effect_names();
 // base with `effect` enabled at main-parameter `value` (YAML units, as in EffectSpec); "none" returns

@@ -28,6 +28,7 @@
 #include "analysis/flow_calibration.hpp"
 #include "analysis/flow_run.hpp"
 #include "analysis/jackknife.hpp"
+#include "analysis/mbd_model.hpp"
 #include "chamber/flow_config.hpp"
 #include "core/cli_args.hpp"
 #include "core/run_config.hpp"
@@ -342,21 +343,12 @@ int main(int argc, char** argv) {
   // values are calibrated at 400 rpm (flow.calibration_unknowns) or fixed, never fitted at 600 rpm.
   {
     const auto& cfg = cfg400;
-    const auto& e = cfg.mech.effects;
-    const auto& fe = cfg.flow.effects;
-    const std::vector<std::pair<bool, std::string>> laws = {
-        {e.bearing_friction.enabled, "mbd.effects.bearing_friction (test/mbd/test_bearing_friction.cpp)"},
-        {e.joint_friction.enabled, "mbd.effects.joint_friction (test/mbd/test_effects.cpp)"},
-        {e.absorber_nonlinearity.enabled, "mbd.effects.absorber_nonlinearity (test/mbd/test_effects.cpp)"},
-        {e.motor_droop.enabled, "mbd.effects.motor_droop (test/mbd/test_effects.cpp)"},
-        {e.cardan_misalignment.enabled, "mbd.effects.cardan_misalignment (test/mbd/test_effects.cpp)"},
-        {e.drive_efficiency.enabled, "mbd.effects.drive_efficiency (test/mbd/test_drive_efficiency.cpp)"},
-        {fe.feed_limited.enabled, "flow.effects.feed_limited (test/chamber/test_chamber_effects.cpp)"},
-        {fe.worn_liners.enabled, "flow.effects.worn_liners (test/chamber/test_chamber_effects.cpp)"},
-        {fe.squeeze_flow.enabled, "flow.effects.squeeze_flow (test/chamber/test_chamber_effects.cpp)"},
-        {fe.liner_friction.enabled, "flow.effects.liner_friction (test/chamber/test_chamber_effects.cpp)"},
-        {cfg.flow.material.solid_divergence,
-         "flow.material.pressure.law solid_divergence (test/chamber/test_flow_model.cpp, test_piston_die.cpp)"}};
+    std::vector<std::pair<bool, std::string>> laws;
+    for (const auto& m : analysis::effect_modules())
+      laws.emplace_back(m.enabled(cfg.mech, cfg.flow),
+                        std::string(m.section) + ".effects." + m.name + " (" + m.test + ")");
+    laws.emplace_back(cfg.flow.material.solid_divergence,
+                      "flow.material.pressure.law solid_divergence (test/chamber/test_flow_model.cpp, test_piston_die.cpp)");
     bool first_law = true;
     for (const auto& [on, law] : laws)
       if (on) j << (first_law ? "" : ", ") << "\"" << law << "\"", first_law = false;

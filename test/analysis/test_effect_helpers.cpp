@@ -3,6 +3,8 @@
 // parameters and are refused by the mechanism's helper.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +63,29 @@ TEST(EffectHelpers, ChamberEffectsGoToTheFlowParametersInTheirUnits) {
     FAIL() << "expected a throw";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("flow.effects.worn_liners"), std::string::npos) << e.what();
+  }
+}
+
+// The one list of modules (effect_modules) agrees with the helpers: each name is switched on by its section's helper
+// and is then the only module on; the names lists and is_flow_effect follow it; its test files exist.
+TEST(EffectHelpers, TheModuleListSwitchesEachModuleAndOnlyIt) {
+  const std::map<std::string, double> value = {
+      {"joint_friction", 10.0},    {"absorber_nonlinearity", 1e9}, {"motor_droop", 0.5}, {"cardan_misalignment", 1.0},
+      {"bearing_friction", 0.01},  {"drive_efficiency", 0.9},      {"feed_limited", 50}, {"worn_liners", 5.0},
+      {"squeeze_flow", 4.0},       {"liner_friction", 0.3}};
+  const auto& modules = analysis::effect_modules();
+  ASSERT_EQ(modules.size(), value.size());
+  for (const auto& m : modules) {
+    ASSERT_TRUE(value.count(m.name)) << m.name;
+    const bool flow = std::string(m.section) == "flow";
+    EXPECT_EQ(analysis::is_flow_effect(m.name), flow) << m.name;
+    const std::string names = flow ? analysis::flow_effect_names() : analysis::mbd_effect_names();
+    EXPECT_NE((", " + names + ",").find(", " + std::string(m.name) + ","), std::string::npos) << m.name;
+    const mbd::MechanismParams mech = analysis::with_effect(mbd::MechanismParams(), flow ? "none" : m.name,
+                                                            flow ? 0.0 : value.at(m.name));
+    const chamber::FlowParams fp = analysis::with_flow_effect(chamber::FlowParams(), m.name, value.at(m.name));
+    for (const auto& o : modules) EXPECT_EQ(o.enabled(mech, fp), &o == &m) << m.name << " switched " << o.name;
+    EXPECT_TRUE(std::ifstream(std::string(CRUSHER_SOURCE_DIR) + "/" + m.test).good()) << m.test;
   }
 }
 
