@@ -74,6 +74,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.crushing_kW = (win.energy1 - win.energy0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
   r.mean_nutation_deg = nut_n ? nut / nut_n * 180 / M_PI : 0;
   r.friction_kW = (win.friction1 - win.friction0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
+  r.extrusion_kW = (win.extrusion1 - win.extrusion0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
   r.mean_spin_rpm = nut_n ? spin / nut_n * 30 / M_PI : 0;
   const auto& fm = load.model();
   for (int b = 0; b < fm.bands(); ++b) {

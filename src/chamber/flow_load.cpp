@@ -38,6 +38,7 @@ ProductWindow snapshot(const FlowModel& m, double t) {
   w.discharged0 = w.discharged1 = m.discharged_by_class();
   w.energy0 = w.energy1 = m.crushing_energy_J();
   w.friction0 = w.friction1 = m.friction_energy_J();
+  w.extrusion0 = w.extrusion1 = m.extrusion_energy_J();
   return w;
 }
 
@@ -46,6 +47,7 @@ void close_window(ProductWindow& w, const FlowModel& m, double t) {
   w.discharged1 = m.discharged_by_class();
   w.energy1 = m.crushing_energy_J();
   w.friction1 = m.friction_energy_J();
+  w.extrusion1 = m.extrusion_energy_J();
 }
 
 }  // namespace chamber

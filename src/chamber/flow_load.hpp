@@ -27,6 +27,7 @@ struct ProductWindow {
   std::vector<double> discharged0, discharged1;  // kg per class at t0 and t1
   double energy0 = 0, energy1 = 0;               // crushing energy booked (J)
   double friction0 = 0, friction1 = 0;           // the rock's friction on the liners, work booked (J)
+  double extrusion0 = 0, extrusion1 = 0;         // the part of the crushing energy spent at the compaction limit (J)
   double throughput_tph() const;
   std::vector<double> by_class() const;           // kg per class discharged in the window
 };

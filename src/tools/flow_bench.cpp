@@ -79,9 +79,10 @@ int main(int argc, char** argv) {
     std::printf("simulated_s %.2f wall_s %.3f real_time_factor %.1f\n", sim, res.wall_s, sim / res.wall_s);
     std::printf("amplitude_x_mm mean %.3f std %.3f  power_kW mean %.2f std %.2f  nutation_deg %.3f\n",
                 s.amplitude_x_mm.mean, s.amplitude_x_mm.std, s.power_kW.mean, s.power_kW.std, res.mean_nutation_deg);
-    std::printf("throughput_tph %.2f specific_energy_kWh_per_t %.3f crushing_kW %.2f chamber_kg %.1f compressions %.2f\n",
+    std::printf("throughput_tph %.2f specific_energy_kWh_per_t %.3f crushing_kW %.2f (extrusion %.2f) chamber_kg %.1f "
+                "compressions %.2f\n",
                 p.throughput_tph, p.throughput_tph > 0 ? s.power_kW.mean / p.throughput_tph : NAN, res.crushing_kW,
-                res.chamber_kg, res.product_compressions);
+                res.extrusion_kW, res.chamber_kg, res.product_compressions);
     std::printf("P80_mm %.2f passing_12mm_pct %.1f passing_1mm_pct %.2f friction_kW %.2f mantle_spin_rpm %.2f\npsd",
                 res.p80_mm, res.passing_12mm_pct, res.passing_1mm_pct, res.friction_kW, res.mean_spin_rpm);
     for (std::size_t k = 0; k < p.sieve_mm.size(); ++k) std::printf(" %g:%.1f", p.sieve_mm[k], p.passing_pct[k]);
