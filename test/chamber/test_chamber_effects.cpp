@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "../common/coaxial_liners.hpp"
 #include "../common/flow_params.hpp"
@@ -276,6 +279,18 @@ TEST(SqueezeFlow, CellsPressedOutAtTheLimitHoldTheFrictionHillWhateverTheGrid) {
     }
 }
 
+// Each YAML of effects.<effect> is refused with an error naming its words.
+void expect_refused(const std::string& effect, const std::vector<std::pair<const char*, const char*>>& bad) {
+  for (const auto& [yaml, words] : bad) {
+    try {
+      chamber::load_flow_params(core::ConfigNode::load_string("effects:\n  " + effect + ": " + yaml, "test"));
+      ADD_FAILURE() << "expected a throw: " << yaml;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << yaml << ": " << e.what();
+    }
+  }
+}
+
 TEST(SqueezeFlow, KeysLoadAndBadValuesAreRefusedByName) {
   const auto f = chamber::load_flow_params(core::ConfigNode::load_string(
       "effects:\n  squeeze_flow: {enabled: true, wall_friction: 0.5, escape_length_mm: 12}\n", "test"));
@@ -283,19 +298,10 @@ TEST(SqueezeFlow, KeysLoadAndBadValuesAreRefusedByName) {
   EXPECT_DOUBLE_EQ(f.effects.squeeze_flow.wall_friction, 0.5);
   EXPECT_NEAR(f.effects.squeeze_flow.escape_length_m, 0.012, 1e-15);
   EXPECT_DOUBLE_EQ(chamber::FlowParams().effects.squeeze_flow.wall_friction, 0.7);  // Table 4, rock on steel
-  const std::pair<const char*, const char*> bad[] = {
-      {"{enabled: true, wall_friction: 7}", "wall_friction"},
-      {"{enabled: true, escape_length_mm: 0.012}", "metres given for mm?"},
-      {"{enabled: true, escape_length_mm: 30}", "escape_length_mm"},  // blows up the explicit coupling
-  };
-  for (const auto& [yaml, words] : bad) {
-    try {
-      chamber::load_flow_params(core::ConfigNode::load_string(std::string("effects:\n  squeeze_flow: ") + yaml, "test"));
-      ADD_FAILURE() << "expected a throw: " << yaml;
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << yaml << ": " << e.what();
-    }
-  }
+  expect_refused("squeeze_flow", {{"{enabled: true, wall_friction: 7}", "wall_friction"},
+                                  {"{enabled: true, escape_length_mm: 0.012}", "metres given for mm?"},
+                                  // blows up the explicit coupling
+                                  {"{enabled: true, escape_length_mm: 30}", "escape_length_mm"}});
 }
 
 }  // namespace
@@ -400,17 +406,6 @@ TEST(LinerFriction, KeysLoadAndBadValuesAreRefusedByName) {
   EXPECT_NEAR(f.effects.liner_friction.regularisation_m_s, 0.02, 1e-15);
   EXPECT_DOUBLE_EQ(chamber::FlowParams().effects.liner_friction.wall_friction, 0.7);  // Table 4, rock on steel
   EXPECT_FALSE(chamber::FlowParams().effects.liner_friction.enabled);
-  const std::pair<const char*, const char*> bad[] = {
-      {"{enabled: true, wall_friction: 7}", "wall_friction"},
-      {"{enabled: true, regularisation_mm_s: 0}", "regularisation_mm_s"},
-  };
-  for (const auto& [yaml, words] : bad) {
-    try {
-      chamber::load_flow_params(
-          core::ConfigNode::load_string(std::string("effects:\n  liner_friction: ") + yaml, "test"));
-      ADD_FAILURE() << "expected a throw: " << yaml;
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << yaml << ": " << e.what();
-    }
-  }
+  expect_refused("liner_friction", {{"{enabled: true, wall_friction: 7}", "wall_friction"},
+                                    {"{enabled: true, regularisation_mm_s: 0}", "regularisation_mm_s"}});
 }
