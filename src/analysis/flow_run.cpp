@@ -71,10 +71,11 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.passing_1mm_pct = passing_at_mm(p.sieve_mm, p.passing_pct, 1);
   r.product_compressions = load.model().product_compressions();
   r.chamber_kg = load.model().mass_kg();
-  r.crushing_kW = (win.energy1 - win.energy0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
+  const auto window_kW = [&](double J0, double J1) { return (J1 - J0) / std::max(1e-9, win.t1 - win.t0) * 1e-3; };
+  r.crushing_kW = window_kW(win.energy0, win.energy1);
   r.mean_nutation_deg = nut_n ? nut / nut_n * 180 / M_PI : 0;
-  r.friction_kW = (win.friction1 - win.friction0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
-  r.extrusion_kW = (win.extrusion1 - win.extrusion0) / std::max(1e-9, win.t1 - win.t0) * 1e-3;
+  r.friction_kW = window_kW(win.friction0, win.friction1);
+  r.extrusion_kW = window_kW(win.extrusion0, win.extrusion1);
   r.mean_spin_rpm = nut_n ? spin / nut_n * 30 / M_PI : 0;
   const auto& fm = load.model();
   for (int b = 0; b < fm.bands(); ++b) {

@@ -94,6 +94,12 @@ const std::vector<EffectModule>& effect_modules() {
   return modules;
 }
 
+static const EffectModule* effect_module(const std::string& name) {
+  for (const auto& e : effect_modules())
+    if (name == e.name) return &e;
+  return nullptr;
+}
+
 static std::string effect_names(const std::string& section) {
   std::string out;
   for (const auto& e : effect_modules())
@@ -139,9 +145,8 @@ mbd::MechanismParams with_effect(const mbd::MechanismParams& base, const std::st
 
 std::string flow_effect_names() { return effect_names("flow"); }
 bool is_flow_effect(const std::string& effect) {
-  for (const auto& e : effect_modules())
-    if (effect == e.name) return std::string(e.section) == "flow";
-  return false;
+  const EffectModule* e = effect_module(effect);
+  return e && std::string(e->section) == "flow";
 }
 
 chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std::string& effect, double value) {
@@ -169,7 +174,7 @@ chamber::FlowParams with_flow_effect(const chamber::FlowParams& base, const std:
       throw std::invalid_argument("liner_friction: wall_friction must be in [0, 2], got " + std::to_string(value));
     f.effects.liner_friction.enabled = true;
     f.effects.liner_friction.wall_friction = value;
-  } else if (effect != "none" && (", " + mbd_effect_names() + ",").find(", " + effect + ",") == std::string::npos) {
+  } else if (effect != "none" && !effect_module(effect)) {  // (the chamber's own names are the branches above)
     throw std::invalid_argument("unknown effect '" + effect + "'; accepted: none, " + mbd_effect_names() + ", " +
                                 flow_effect_names());
   }
