@@ -77,6 +77,8 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.friction_kW = window_kW(win.friction0, win.friction1);
   r.extrusion_kW = window_kW(win.extrusion0, win.extrusion1);
   r.mean_spin_rpm = nut_n ? spin / nut_n * 30 / M_PI : 0;
+  r.extruded_pct = win.extruded_pct();
+  r.extruded_gap_mm = 1e3 * win.extruded_gap_m();
   const auto& fm = load.model();
   for (int b = 0; b < fm.bands(); ++b) {
     FlowRunResult::Band band;
@@ -121,7 +123,8 @@ std::map<std::string, double> table5_values(const FlowRunResult& r) {
           {"p80_mm", r.p80_mm > 0 ? r.p80_mm : NAN},    {"passing_12mm_pct", r.passing_12mm_pct},
           {"passing_1mm_pct", r.passing_1mm_pct},       {"wall_s", r.wall_s},
           {"compressions", r.product_compressions},     {"chamber_kg", r.chamber_kg},
-          {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW}};
+          {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW},
+          {"extruded_product_pct", r.extruded_pct}};
 }
 
 }  // namespace analysis

@@ -27,6 +27,8 @@ struct FlowRunResult {
   double chamber_kg = 0;            // charge at the end
   double crushing_kW = 0;           // crushing energy booked by the events in the window, per second
   double extrusion_kW = 0;          // the part of crushing_kW spent pressing rock out at the compaction limit
+  double extruded_pct = 0;          // share of the window's product pressed out of the bottom nip (the rest fell out)
+  double extruded_gap_mm = 0;       // the mean gap it was pressed out through
   double friction_kW = 0;           // the rock's friction on the liners (flow.effects.liner_friction), per second
   double mean_spin_rpm = 0;         // the mantle's spin about its axis relative to the concave, over the window
   double mean_nutation_deg = 0;     // over the window

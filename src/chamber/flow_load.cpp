@@ -26,6 +26,17 @@ double ProductWindow::throughput_tph() const {
   return t1 > t0 ? kg / (t1 - t0) * 3.6 : 0.0;
 }
 
+double ProductWindow::extruded_pct() const {
+  const auto c = by_class();
+  const double kg = std::accumulate(c.begin(), c.end(), 0.0);
+  return kg > 0 ? 100.0 * (extruded1 - extruded0) / kg : 0.0;
+}
+
+double ProductWindow::extruded_gap_m() const {
+  const double kg = extruded1 - extruded0;
+  return kg > 0 ? (extruded_gap1 - extruded_gap0) / kg : 0.0;
+}
+
 std::vector<double> ProductWindow::by_class() const {
   std::vector<double> c(discharged1.size());
   for (std::size_t j = 0; j < c.size(); ++j) c[j] = discharged1[j] - discharged0[j];
@@ -39,6 +50,8 @@ ProductWindow snapshot(const FlowModel& m, double t) {
   w.energy0 = w.energy1 = m.crushing_energy_J();
   w.friction0 = w.friction1 = m.friction_energy_J();
   w.extrusion0 = w.extrusion1 = m.extrusion_energy_J();
+  w.extruded0 = w.extruded1 = m.extruded_out_kg();
+  w.extruded_gap0 = w.extruded_gap1 = m.extruded_out_gap_kg_m();
   return w;
 }
 
@@ -48,6 +61,8 @@ void close_window(ProductWindow& w, const FlowModel& m, double t) {
   w.energy1 = m.crushing_energy_J();
   w.friction1 = m.friction_energy_J();
   w.extrusion1 = m.extrusion_energy_J();
+  w.extruded1 = m.extruded_out_kg();
+  w.extruded_gap1 = m.extruded_out_gap_kg_m();
 }
 
 }  // namespace chamber

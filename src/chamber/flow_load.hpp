@@ -28,6 +28,10 @@ struct ProductWindow {
   double energy0 = 0, energy1 = 0;               // crushing energy booked (J)
   double friction0 = 0, friction1 = 0;           // the rock's friction on the liners, work booked (J)
   double extrusion0 = 0, extrusion1 = 0;         // the part of the crushing energy spent at the compaction limit (J)
+  double extruded0 = 0, extruded1 = 0;           // discharge pressed out of the bottom nip (kg; FlowModel::extruded_out_kg)
+  double extruded_gap0 = 0, extruded_gap1 = 0;   // its kg x gap (kg m)
+  double extruded_pct() const;                   // share of the window's discharge pressed out (%; 0 when none left)
+  double extruded_gap_m() const;                 // mean gap it left through (m; 0 when none was pressed out)
   double throughput_tph() const;
   std::vector<double> by_class() const;           // kg per class discharged in the window
 };

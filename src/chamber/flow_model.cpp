@@ -234,6 +234,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     if (k < S) {
       for (std::size_t j = 0; j < C; ++j) out_[j] += scratch_[j];
       out_count_ += kg_count;
+      if (pressed_out) extruded_out_ += kg, extruded_gap_ += kg * gap_[k];
       return;
     }
     const std::size_t below = k - S;
@@ -486,6 +487,9 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
     w.tag("FRIC");
     w.put(friction_);
   }
+  w.tag("EXTD");  // the discharge pressed out of the nip (a file without it: another version)
+  w.put(extruded_out_);
+  w.put(extruded_gap_);
 }
 
 void FlowModel::load_state(core::BinaryReader& r) {
@@ -541,6 +545,9 @@ void FlowModel::load_state(core::BinaryReader& r) {
     r.expect("FRIC");
     r.get(friction_);
   }
+  r.expect("EXTD");
+  r.get(extruded_out_);
+  r.get(extruded_gap_);
 }
 
 }  // namespace chamber

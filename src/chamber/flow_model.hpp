@@ -183,6 +183,10 @@ class FlowModel {
   // including the work of pressing rock out of the nip at the compaction limit (extrusion_energy_J, a part of it).
   double crushing_energy_J() const { return energy_; }
   double extrusion_energy_J() const { return extrusion_; }
+  // Rock discharged so far that was pressed out of the bottom band's nip at the compaction limit (kg; the rest fell
+  // out as the gap opened), and the sum of its kg x the gap it left through (kg m): how the product leaves.
+  double extruded_out_kg() const { return extruded_out_; }
+  double extruded_out_gap_kg_m() const { return extruded_gap_; }
   // Work of the liners against the rock's friction so far (J; effects.liner_friction), not in crushing_energy_J.
   double friction_energy_J() const { return friction_; }
   long events() const { return events_; }  // compression events of at least 2 % so far
@@ -222,7 +226,7 @@ class FlowModel {
   // its bed pressure (drawn when a pressing starts), the draws.
   std::vector<double> lump_kg_, scatter_;
   ScatterDraws draws_;
-  double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0, friction_ = 0;
+  double fed_ = 0, energy_ = 0, extrusion_ = 0, out_count_ = 0, friction_ = 0, extruded_out_ = 0, extruded_gap_ = 0;
   long events_ = 0;
   bool prefilled_ = false;
 

@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
     std::printf("P80_mm %.2f passing_12mm_pct %.1f passing_1mm_pct %.2f friction_kW %.2f mantle_spin_rpm %.2f\npsd",
                 res.p80_mm, res.passing_12mm_pct, res.passing_1mm_pct, res.friction_kW, res.mean_spin_rpm);
     for (std::size_t k = 0; k < p.sieve_mm.size(); ++k) std::printf(" %g:%.1f", p.sieve_mm[k], p.passing_pct[k]);
-    std::printf("\n");
+    std::printf("\nproduct_extruded_pct %.1f (mean gap %.2f mm; the rest fell out as the gap opened)\n", res.extruded_pct,
+                res.extruded_gap_mm);
     if (exact) {
       for (const auto& [name, v] : analysis::table5_values(res))
         if (name != "wall_s") std::printf("exact %s %.17g\n", name.c_str(), v);

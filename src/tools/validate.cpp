@@ -328,11 +328,11 @@ int main(int argc, char** argv) {
   }
   j << "  ],\n  \"extra400\": {";
   bool first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW"})
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct"})
     if (a.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(a.v[k]), first = false;
   j << "},\n  \"extra600\": {";
   first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW"})
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct"})
     if (b.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(b.v[k]), first = false;
   j << "},\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "

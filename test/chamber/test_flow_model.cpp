@@ -391,6 +391,10 @@ TEST(FlowModel, RockExtrudedAtTheCompactionLimitLeavesBrokenByThatPressing) {
     EXPECT_NEAR(m.discharged_by_class()[i], expect[i], 1e-12 * out) << "class " << i;
   EXPECT_NEAR(m.mass_kg() + out, lumps[j], 1e-12 * lumps[j]);
   EXPECT_NEAR(m.product_compressions(), 1.0, 1e-12);  // the pressing counts as the rock's event
+  // All of it was pressed out, A rho0 / (1 - s_max) x 0.1 mm in each step from the gap 30 mm (s = s_max) on, through
+  // the gaps 29.9 ... 20.0 mm: their mean, 24.95 mm.
+  EXPECT_NEAR(m.extruded_out_kg(), out, 1e-12 * out);
+  EXPECT_NEAR(m.extruded_out_gap_kg_m() / m.extruded_out_kg(), 0.02495, 1e-9);
 }
 
 // One pressing breaks a lump once, however many bands it flows through: every band of one class of lumps, loose, is
@@ -540,6 +544,7 @@ TEST(FlowModel, AGapWiderThanTheFeedPassesItAndANarrowerOneHoldsTheLumps) {
     for (int i = 0; i < 20000; ++i) m.step(kRest, kRest, kComM, kComC, 2e-4, 9.81);
     ASSERT_GT(m.discharged_kg(), 1.0) << gap;
     EXPECT_EQ(m.events(), 0);
+    EXPECT_EQ(m.extruded_out_kg(), 0.0);  // all of it fell out
     const auto out = m.discharged_by_class();
     const auto pass = m.passing(out);
     const auto& feed = p.feed_passing;
@@ -582,6 +587,10 @@ TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
   EXPECT_EQ(m.mass_kg(), copy.mass_kg());
   EXPECT_EQ(m.discharged_by_class(), copy.discharged_by_class());
   EXPECT_EQ(m.crushing_energy_J(), copy.crushing_energy_J());
+  EXPECT_EQ(m.extruded_out_kg(), copy.extruded_out_kg());
+  EXPECT_EQ(m.extruded_out_gap_kg_m(), copy.extruded_out_gap_kg_m());
+  EXPECT_GT(m.extruded_out_kg(), 0.0);
+  EXPECT_LT(m.extruded_out_kg(), m.discharged_kg());  // some fell out, some was pressed out
   // A state is refused by a model of another material.
   auto q = p;
   q.material.modulus_Pa *= 1.01;
