@@ -23,8 +23,8 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   FlowRunResult r;
   auto& s = r.signals;
   chamber::ProductWindow win;
-  double nut = 0, spin = 0;
-  long nut_n = 0;
+  double nut = 0, spin = 0, contact_N = 0;
+  long nut_n = 0, contact_n = 0;
   const long trace = o.trace_every_s > 0 ? std::max(1L, std::lround(o.trace_every_s / dt)) : 0;
   double fed0 = 0, out0 = 0, work0 = 0, tr_nut = 0;
   for (long i = 1; i <= total; ++i) {
@@ -42,7 +42,11 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
         fed0 = f.fed_kg(), out0 = f.discharged_kg(), work0 = work, tr_nut = 0;
       }
     }
-    if (i > settle) nut += m.nutation_angle(), spin += m.mantle_spin(), ++nut_n;
+    if (i > settle) {
+      nut += m.nutation_angle(), spin += m.mantle_spin(), ++nut_n;
+      const double f = m.contact_force();
+      contact_N += f, contact_n += f > 0;
+    }
     if (i % every == 0) {
       const auto tp = m.test_point();
       const auto d = m.drive();
@@ -77,6 +81,8 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
   r.friction_kW = window_kW(win.friction0, win.friction1);
   r.extrusion_kW = window_kW(win.extrusion0, win.extrusion1);
   r.mean_spin_rpm = nut_n ? spin / nut_n * 30 / M_PI : 0;
+  r.contact_pct = nut_n ? 100.0 * contact_n / nut_n : 0;
+  r.contact_kN = nut_n ? contact_N / nut_n * 1e-3 : 0;
   r.extruded_pct = win.extruded_pct();
   r.extruded_gap_mm = 1e3 * win.extruded_gap_m();
   const auto& fm = load.model();
@@ -124,7 +130,7 @@ std::map<std::string, double> table5_values(const FlowRunResult& r) {
           {"passing_1mm_pct", r.passing_1mm_pct},       {"wall_s", r.wall_s},
           {"compressions", r.product_compressions},     {"chamber_kg", r.chamber_kg},
           {"nutation_deg", r.mean_nutation_deg},        {"crushing_kW", r.crushing_kW},
-          {"extruded_product_pct", r.extruded_pct}};
+          {"extruded_product_pct", r.extruded_pct},    {"cone_contact_pct", r.contact_pct}};
 }
 
 }  // namespace analysis

@@ -29,6 +29,9 @@ struct FlowRunResult {
   double extrusion_kW = 0;          // the part of crushing_kW spent pressing rock out at the compaction limit
   double extruded_pct = 0;          // share of the window's product pressed out of the bottom nip (the rest fell out)
   double extruded_gap_mm = 0;       // the mean gap it was pressed out through
+  // The liners' metal contact (Eq. 11) over the window: the share of steps in contact and the mean normal force over
+  // all steps (a mantle rolling on the concave, not held off by the rock, is in contact every step).
+  double contact_pct = 0, contact_kN = 0;
   double friction_kW = 0;           // the rock's friction on the liners (flow.effects.liner_friction), per second
   double mean_spin_rpm = 0;         // the mantle's spin about its axis relative to the concave, over the window
   double mean_nutation_deg = 0;     // over the window

@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < p.sieve_mm.size(); ++k) std::printf(" %g:%.1f", p.sieve_mm[k], p.passing_pct[k]);
     std::printf("\nproduct_extruded_pct %.1f (mean gap %.2f mm; the rest fell out as the gap opened)\n", res.extruded_pct,
                 res.extruded_gap_mm);
+    std::printf("cone_contact_pct %.1f (mean normal force %.1f kN: the liners' metal contact, Eq. 11)\n", res.contact_pct,
+                res.contact_kN);
     if (exact) {
       for (const auto& [name, v] : analysis::table5_values(res))
         if (name != "wall_s") std::printf("exact %s %.17g\n", name.c_str(), v);

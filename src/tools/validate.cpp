@@ -261,6 +261,9 @@ int main(int argc, char** argv) {
   std::printf("trends 400 -> 600 rpm (section 4.3): power up %s, throughput down %s, product finer %s\n",
               trend_power ? "yes" : "NO", load != "flow" ? "n/a" : trend_tph ? "yes" : "NO",
               load != "flow" ? "n/a" : trend_finer ? "yes" : "NO");
+  if (a.v.count("cone_contact_pct") && b.v.count("cone_contact_pct"))
+    std::printf("liners in metal contact (Eq. 11: the rock does not hold the mantle off): %.1f %% of the time at 400 rpm, "
+                "%.1f %% at 600 rpm\n", a.v["cone_contact_pct"], b.v["cone_contact_pct"]);
   std::printf("600 rpm rows closer to the plant than the paper's simulation: ");
   for (const char* k : {"amplitude_x_mm_mean", "power_kW_mean", "throughput_tph", "specific_energy_kWh_per_t"}) {
     for (const auto& r : kRows)
@@ -328,11 +331,11 @@ int main(int argc, char** argv) {
   }
   j << "  ],\n  \"extra400\": {";
   bool first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct"})
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct", "cone_contact_pct"})
     if (a.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(a.v[k]), first = false;
   j << "},\n  \"extra600\": {";
   first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct"})
+  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct", "cone_contact_pct"})
     if (b.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(b.v[k]), first = false;
   j << "},\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
