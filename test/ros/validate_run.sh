@@ -20,8 +20,10 @@ for q in ("amplitude_x_mm_mean", "power_kW_mean", "throughput_tph", "specific_en
 for q in ("p80_mm", "passing_12mm_pct", "passing_1mm_pct"):
     assert rows[q]["ours400"] > 0 and rows[q]["ours600"] > 0, rows[q]
 assert set(j["trends"]) == {"power_up", "throughput_down", "product_finer"}, j["trends"]
+for e in (j["extra400"], j["extra600"]):  # how the product leaves, and the liners' metal contact: shares in %
+    assert 0 <= e["extruded_product_pct"] <= 100 and 0 <= e["cone_contact_pct"] <= 100, e
 text = open(d + "/validation.txt").read()
-assert "Table 5" in text and "trends 400 -> 600 rpm" in text, text[:300]
+assert "Table 5" in text and "trends 400 -> 600 rpm" in text and "liners in metal contact" in text, text[:300]
 assert os.path.getsize(d + "/validation.png") > 10000
 print("validate: %.2f mm, %.1f kW, %.1f t/h at 600 rpm; trends %s" % (
     rows["amplitude_x_mm_mean"]["ours600"], rows["power_kW_mean"]["ours600"], rows["throughput_tph"]["ours600"],
