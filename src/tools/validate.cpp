@@ -52,6 +52,9 @@ const std::vector<Row> kRows = {
     {"passing_1mm_pct", "passing 1 mm (%)", NAN, NAN, NAN, NAN},
     {"wall_s", "wall time (s)", NAN, NAN, NAN, NAN},
 };
+// validation.json's extra figures of each speed: how the model got there (analysis::table5_values' keys).
+const char* const kExtraKeys[] = {"compressions", "chamber_kg",           "nutation_deg",
+                                  "crushing_kW",  "extruded_product_pct", "cone_contact_pct"};
 
 struct Case {
   std::map<std::string, double> v;
@@ -331,11 +334,11 @@ int main(int argc, char** argv) {
   }
   j << "  ],\n  \"extra400\": {";
   bool first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct", "cone_contact_pct"})
+  for (const char* k : kExtraKeys)
     if (a.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(a.v[k]), first = false;
   j << "},\n  \"extra600\": {";
   first = true;
-  for (const char* k : {"compressions", "chamber_kg", "nutation_deg", "crushing_kW", "extruded_product_pct", "cone_contact_pct"})
+  for (const char* k : kExtraKeys)
     if (b.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(b.v[k]), first = false;
   j << "},\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
