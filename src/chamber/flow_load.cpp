@@ -20,15 +20,15 @@ void FlowLoad::step(mbd::Mechanism& mech) {
   mech.step();
 }
 
-double ProductWindow::throughput_tph() const {
+double ProductWindow::discharged_kg() const {
   const auto c = by_class();
-  const double kg = std::accumulate(c.begin(), c.end(), 0.0);
-  return t1 > t0 ? kg / (t1 - t0) * 3.6 : 0.0;
+  return std::accumulate(c.begin(), c.end(), 0.0);
 }
 
+double ProductWindow::throughput_tph() const { return t1 > t0 ? discharged_kg() / (t1 - t0) * 3.6 : 0.0; }
+
 double ProductWindow::extruded_pct() const {
-  const auto c = by_class();
-  const double kg = std::accumulate(c.begin(), c.end(), 0.0);
+  const double kg = discharged_kg();
   return kg > 0 ? 100.0 * (extruded1 - extruded0) / kg : 0.0;
 }
 

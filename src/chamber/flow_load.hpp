@@ -33,6 +33,7 @@ struct ProductWindow {
   double extruded_pct() const;                   // share of the window's discharge pressed out (%; 0 when none left)
   double extruded_gap_m() const;                 // mean gap it left through (m; 0 when none was pressed out)
   double throughput_tph() const;
+  double discharged_kg() const;                   // kg discharged in the window
   std::vector<double> by_class() const;           // kg per class discharged in the window
 };
 ProductWindow snapshot(const FlowModel& m, double t);  // t0 = t1 = t, both snapshots the same

@@ -332,15 +332,18 @@ int main(int argc, char** argv) {
       << ", \"error600\": " << num(err(b.v[r.key], r.exp600)) << ", \"paper_error600\": " << num(err(r.sim600, r.exp600))
       << "}" << (i + 1 < kRows.size() ? "," : "") << "\n";
   }
-  j << "  ],\n  \"extra400\": {";
-  bool first = true;
-  for (const char* k : kExtraKeys)
-    if (a.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(a.v[k]), first = false;
-  j << "},\n  \"extra600\": {";
-  first = true;
-  for (const char* k : kExtraKeys)
-    if (b.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(b.v[k]), first = false;
-  j << "},\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
+  auto extras = [&](const Case& c) {  // the figures of kExtraKeys that the case has, as a JSON object
+    bool first = true;
+    j << "{";
+    for (const char* k : kExtraKeys)
+      if (c.v.count(k)) j << (first ? "" : ", ") << "\"" << k << "\": " << num(c.v.at(k)), first = false;
+    j << "}";
+  };
+  j << "  ],\n  \"extra400\": ";
+  extras(a);
+  j << ",\n  \"extra600\": ";
+  extras(b);
+  j << ",\n  \"product_index_400\": " << (load != "flow" ? "null" : index400 ? "true" : "false")
     << ",\n  \"trends\": {\"power_up\": " << (trend_power ? "true" : "false") << ", \"throughput_down\": "
     << (load != "flow" ? "null" : trend_tph ? "true" : "false") << ", \"product_finer\": "
     << (load != "flow" ? "null" : trend_finer ? "true" : "false") << "},\n"
