@@ -10,7 +10,9 @@ for sub in demo test run validate bench mbd-bench flow-bench calibrate diagnose 
   grep -q "^usage:" <<<"$text" || { echo "FAIL: crusher $sub --help printed no usage: $text"; exit 1; }
   grep -q "crusher .*$sub" <<<"$text" || { echo "FAIL: crusher $sub --help does not name $sub: $text"; exit 1; }
 done
-bash "$crusher" --help | grep -q "crusher validate" || { echo "FAIL: crusher --help lacks validate"; exit 1; }
+# Captured, not piped: under pipefail, grep -q's early exit can kill the writer with SIGPIPE (a flaky failure).
+text=$(bash "$crusher" --help)
+grep -q "crusher validate" <<<"$text" || { echo "FAIL: crusher --help lacks validate: $text"; exit 1; }
 if msg=$(bash "$crusher" frobnicate 2>&1); then echo "FAIL: an unknown subcommand was accepted"; exit 1; fi
 grep -q "accepted: demo" <<<"$msg" || { echo "FAIL: unknown subcommand message: $msg"; exit 1; }
 # A run shorter than its settle time has no summary window: refused before building, naming both.
