@@ -36,6 +36,13 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
             [](M& m, const std::string& v) { m.solid_divergence = v == "solid_divergence"; },
             "virgin loading p = E u^n in u = s (power) or u = s / (1 - s / (1 - loose_solid_fraction)) (solid_divergence: "
             "the pressure diverges at the solid's density; max_compression below that limit)")
+        .choice(
+            "pressure.at_limit", {"extrude", "elastic"},
+            [](const M& m) { return std::string(m.elastic_limit ? "elastic" : "extrude"); },
+            [](M& m, const std::string& v) { m.elastic_limit = v == "elastic"; },
+            "rock pressed past max_compression: extrude (pressed out into the cell below at the limit's pressure) or "
+            "elastic (held; the pressure rises along the law's reloading stiffness at the limit, without loss: "
+            "src/chamber/bed_limit.hpp)")
         .number("scatter.lump_std", "", 1, 0, kMaxLumpStd, [](M& m) -> double& { return m.lump_std; },
                 "relative std of one lump's share of a bed's pressure, from replicate piston-die tests (0: the "
                 "pressings do not scatter)")

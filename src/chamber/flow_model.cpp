@@ -1,4 +1,6 @@
 #include "chamber/flow_model.hpp"
+
+#include "chamber/bed_limit.hpp"
 #include "chamber/squeeze_flow.hpp"
 
 #include "chamber/liner_wear.hpp"
@@ -62,6 +64,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
               core::format_number(solid_compaction_limit(m.loose_fraction)) + ", where its pressure is infinite");
   require(!m.solid_divergence || !p.compaction_memory,
           "pressure.law solid_divergence is not implemented with compaction_memory: true (use false)");
+  require(!m.elastic_limit || (!m.solid_divergence && !p.compaction_memory),
+          "pressure.at_limit elastic is implemented for pressure.law power with compaction_memory: false only");
   require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
                                                            core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
@@ -301,7 +305,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below, broken as by the
     // pressing that took it to the limit (the event the rock left behind completes later with the same ratio).
     const double m_max = cap / (1.0 - mat.max_compression);
-    const bool extruded = m > m_max;
+    const bool extruded = m > m_max && !mat.elastic_limit;
+    const double locked_strain = m > m_max && mat.elastic_limit ? 1.0 - m_max / m : 0.0;  // bed_limit.hpp
     if (extruded) {
       extrude(k, m - m_max);
       m = m_max;
@@ -348,6 +353,9 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
         fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - s0));
       }
     }
+    if (locked_strain > 0)
+      p += locked_bed_pressure(locked_strain, mat.exponent, mat.rebound, mat.max_compression,
+                               mat.modulus_Pa * std::pow(mat.max_compression, mat.exponent));
     p *= squeeze;
     if (mat.lump_std > 0) {  // a new pressing meets its rock as it lies now: its own strength
       if (p_before <= 0 && p > 0)
@@ -385,7 +393,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   }
   // Rock at the compaction limit does not compact further: what was pressed into a cell below that this step had left at
   // its limit goes on down in the same step, as far as a cell with room (or out), not one band per step.
-  for (std::size_t k = cells(); k-- > 0;) {
+  for (std::size_t k = mat.elastic_limit ? 0 : cells(); k-- > 0;) {  // (held rock is not pressed out)
     const double over = total_[k] - cells_.area[k / S] * gap_[k] * rho0_ / (1.0 - mat.max_compression);
     if (over > 1e-12 * total_[k]) extrude(k, over);
   }
@@ -447,6 +455,7 @@ std::vector<double> FlowModel::fingerprint() const {
                      double(p_.choke_feed), double(p_.compaction_memory)});
   if (m.lump_std > 0) f.insert(f.end(), {m.lump_std, double(p_.seed)});  // (without: as before the scatter)
   if (m.solid_divergence) f.push_back(-2.0);  // the diverging law (without: as before it)
+  if (m.elastic_limit) f.push_back(-4.0);     // held elastic past the limit (without: as before it)
   const auto& lf = p_.effects.liner_friction;
   if (lf.enabled) f.insert(f.end(), {-3.0, lf.wall_friction, lf.regularisation_m_s});  // (without: as before it)
   return f;

@@ -51,6 +51,7 @@ struct FlowMaterial {
   bool solid_divergence = false; // u = s / (1 - s / s_solid) (the pressure diverges at the solid's density); false: u = s
   double rebound = 0.15;         // recovered fraction of each compression
   double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max)), at most the solid's (below)
+  bool elastic_limit = false;    // past the limit the rock is held, elastic (bed_limit.hpp); false: pressed out
   double lump_std = 0.0;         // relative std of one lump's share of a bed's pressure (bed_scatter.hpp); 0: none
   BreakageParams breakage;
 };

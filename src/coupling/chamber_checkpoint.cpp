@@ -32,6 +32,7 @@ std::vector<double> fingerprint(const ChamberDem& d) {
                        m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression,
                        b.s_c, b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta});
     if (m.solid_divergence) f.push_back(-2.0);  // the diverging pressure law (without: as before it)
+    if (m.elastic_limit) f.push_back(-4.0);     // held elastic past the limit (without: as before it)
     f.push_back(static_cast<double>(q.sieves_m.size()));
     f.insert(f.end(), q.sieves_m.begin(), q.sieves_m.end());
   }
