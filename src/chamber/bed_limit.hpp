@@ -12,12 +12,14 @@
 
 namespace chamber {
 
-// Pressure added above the limit's for a locked layer strained eps >= 0 (Pa), for the law p = E s^n with `rebound`;
-// p_limit = E s_max^n.
-inline double locked_bed_pressure(double eps, double n, double rebound, double s_max, double p_limit) {
-  if (eps <= 0) return 0.0;
+// The locked layer's stiffness dp/deps (Pa) for the law p = E s^n with `rebound`; p_limit = E s_max^n. A constant of
+// the material (FlowModel derives it once).
+inline double locked_bed_stiffness(double n, double rebound, double s_max, double p_limit) {
   const double k_e = n * p_limit / (rebound * s_max);  // the reloading tangent dp/de at the limit
-  return k_e * (1.0 - s_max) * eps;
+  return k_e * (1.0 - s_max);
 }
+
+// Pressure added above the limit's for a locked layer strained eps (Pa); none for eps <= 0.
+inline double locked_bed_pressure(double eps, double stiffness) { return eps > 0 ? stiffness * eps : 0.0; }
 
 }  // namespace chamber

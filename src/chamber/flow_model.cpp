@@ -73,6 +73,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
     require(p.feed_passing[i] >= 0 && p.feed_passing[i] <= 1 && (i == 0 || p.feed_passing[i] >= p.feed_passing[i - 1]),
             "feed_passing must be ascending fractions in [0, 1]");
   rho0_ = m.loose_fraction * m.solid_density;
+  if (m.elastic_limit)
+    locked_stiffness_ = locked_bed_stiffness(m.exponent, m.rebound, m.max_compression,
+                                             m.modulus_Pa * std::pow(m.max_compression, m.exponent));
   auto lo = [](const core::Profile& q) { return std::min(q.z.front(), q.z.back()); };
   auto hi = [](const core::Profile& q) { return std::max(q.z.front(), q.z.back()); };
   const double z_lo = std::max(lo(mantle), lo(concave)), z_hi = std::min(hi(mantle), hi(concave));
@@ -353,9 +356,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
         fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - s0));
       }
     }
-    if (locked_strain > 0)
-      p += locked_bed_pressure(locked_strain, mat.exponent, mat.rebound, mat.max_compression,
-                               mat.modulus_Pa * std::pow(mat.max_compression, mat.exponent));
+    p += locked_bed_pressure(locked_strain, locked_stiffness_);
     p *= squeeze;
     if (mat.lump_std > 0) {  // a new pressing meets its rock as it lies now: its own strength
       if (p_before <= 0 && p > 0)

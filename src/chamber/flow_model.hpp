@@ -205,6 +205,7 @@ class FlowModel {
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;
   double rho0_ = 0;
+  double locked_stiffness_ = 0;  // Pa per unit strain of a layer held past the limit (bed_limit.hpp); 0: extrude
   core::ConcaveCells cells_;  // the cells' concave points and areas
   std::vector<double> feed_share_;
   std::vector<double> mass_;                            // cells x classes, kg
