@@ -14,7 +14,6 @@
 namespace {
 
 using test_liners::cylinder;
-using test_liners::shifted;
 
 const Eigen::Isometry3d kRest = Eigen::Isometry3d::Identity();
 const Eigen::Vector3d kComM(0, 0, -0.5), kComC(0, 0, -0.6);
@@ -30,9 +29,10 @@ TEST(BedLimit, TheLockedStiffnessIsTheBedLawsReloadingTangentAtTheLimit) {
   const double de = 1e-7, p_below = mbd::bed_hysteretic(c, s_max - de, E, n, rebound).p;
   const double tangent = (p_lim - p_below) / de;  // dp/de on the reloading branch at the limit
   const double eps = 0.01, de_of_eps = (1.0 - s_max) * eps;  // the law's strain for eps of the locked layer
-  EXPECT_NEAR(chamber::locked_bed_pressure(eps, n, rebound, s_max, p_lim) / de_of_eps, tangent, 1e-5 * tangent);
-  EXPECT_EQ(chamber::locked_bed_pressure(0.0, n, rebound, s_max, p_lim), 0.0);
-  EXPECT_EQ(chamber::locked_bed_pressure(-0.1, n, rebound, s_max, p_lim), 0.0);
+  const double k = chamber::locked_bed_stiffness(n, rebound, s_max, p_lim);
+  EXPECT_NEAR(chamber::locked_bed_pressure(eps, k) / de_of_eps, tangent, 1e-5 * tangent);
+  EXPECT_EQ(chamber::locked_bed_pressure(0.0, k), 0.0);
+  EXPECT_EQ(chamber::locked_bed_pressure(-0.1, k), 0.0);
 }
 
 // Coaxial cylinders 50 mm apart, full of loose rock, the mantle moved 30 mm aside and back on one sector: every band
@@ -47,17 +47,12 @@ TEST(BedLimit, HeldRockPressesElasticallyPastTheLimitAndLosesOnlyTheLawsLoop) {
     chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
     m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
     const int steps = 3000;
-    double work = 0, x_prev = 0, f_prev = 0;
-    auto at = [&](double x) {
-      const auto L = m.step(shifted({-x, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
-      work += 0.5 * (L.f_mantle.x() + f_prev) * (x - x_prev);  // on the rock: -(force on the mantle) . d(-x)
-      x_prev = x, f_prev = L.f_mantle.x();
-    };
-    for (int i = 1; i <= steps; ++i) at(0.030 * i / steps);  // gap 50 -> 20 mm
+    test_liners::PushAlongX push{m, kComM, kComC};
+    for (int i = 1; i <= steps; ++i) push.to(0.030 * i / steps);  // gap 50 -> 20 mm
     *pressure_at_20mm = m.cell_pressure(5);
     *discharged_at_20mm = m.discharged_kg();
-    for (int i = steps; i >= 0; --i) at(0.030 * i / steps);  // released
-    *work_out = work;
+    for (int i = steps; i >= 0; --i) push.to(0.030 * i / steps);  // released
+    *work_out = push.work;
     EXPECT_GE(m.events(), 6);
     double loose_volume = 0;
     for (std::size_t k = 0; k < m.cells(); ++k) loose_volume += m.cell_area(k) * 0.050;

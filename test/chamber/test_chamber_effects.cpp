@@ -257,13 +257,8 @@ TEST(SqueezeFlow, CellsPressedOutAtTheLimitHoldTheFrictionHillWhateverTheGrid) {
       m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
       const auto& mat = p.material;
       const int n = 3000;
-      double work = 0, x_prev = 0, f_prev = 0;
-      auto at = [&](double x) {
-        const auto L = m.step(test_liners::shifted({-x, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
-        work += 0.5 * (L.f_mantle.x() + f_prev) * (x - x_prev);
-        x_prev = x, f_prev = L.f_mantle.x();
-      };
-      for (int i = 1; i <= n; ++i) at(0.030 * i / n);
+      test_liners::PushAlongX push{m, kComM, kComC};
+      for (int i = 1; i <= n; ++i) push.to(0.030 * i / n);
       const double p_lim = mat.modulus_Pa * std::pow(mat.max_compression, mat.exponent);
       const double expect = on ? p_lim * std::exp(2 * 0.7 * 0.015 / 0.020) : p_lim;
       for (std::size_t b = 0; b < static_cast<std::size_t>(bands); ++b) {
@@ -274,8 +269,8 @@ TEST(SqueezeFlow, CellsPressedOutAtTheLimitHoldTheFrictionHillWhateverTheGrid) {
       const std::size_t top = bands - 1;
       EXPECT_NEAR(m.cell_mass(top), m.cell_area(top) * 0.020 * m.loose_density() / (1 - mat.max_compression),
                   1e-9 * m.cell_mass(top));
-      for (int i = n; i >= 0; --i) at(0.030 * i / n);
-      EXPECT_NEAR(work, m.crushing_energy_J(), 0.01 * work) << bands << " bands, " << (on ? "on" : "off");
+      for (int i = n; i >= 0; --i) push.to(0.030 * i / n);
+      EXPECT_NEAR(push.work, m.crushing_energy_J(), 0.01 * push.work) << bands << " bands, " << (on ? "on" : "off");
     }
 }
 

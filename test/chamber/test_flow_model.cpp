@@ -345,13 +345,8 @@ TEST(FlowModel, RockPressedPastTheCompactionLimitIsExtrudedAndItsWorkBooked) {
   const double total = m.mass_kg();
   const auto& mat = p.material;
   const int n = 3000;
-  double work = 0, x_prev = 0, f_prev = 0;
-  auto at = [&](double x) {
-    const auto L = m.step(shifted({-x, 0, 0}), kRest, kComM, kComC, 1e-3, 0.0);
-    work += 0.5 * (L.f_mantle.x() + f_prev) * (x - x_prev);  // on the rock: -(force on the mantle) . d(-x)
-    x_prev = x, f_prev = L.f_mantle.x();
-  };
-  for (int i = 1; i <= n; ++i) at(0.030 * i / n);  // gap 50 -> 20 mm: s = 0.6 > s_max 0.4
+  test_liners::PushAlongX push{m, kComM, kComC};
+  for (int i = 1; i <= n; ++i) push.to(0.030 * i / n);  // gap 50 -> 20 mm: s = 0.6 > s_max 0.4
   EXPECT_NEAR(m.cell_gap(top), 0.020, 1e-9);
   EXPECT_NEAR(m.cell_mass(top), m.cell_area(top) * 0.020 * m.loose_density() / (1 - mat.max_compression),
               1e-9 * total);
@@ -360,9 +355,9 @@ TEST(FlowModel, RockPressedPastTheCompactionLimitIsExtrudedAndItsWorkBooked) {
   EXPECT_NEAR(m.cell_pressure(top), mat.modulus_Pa * std::pow(mat.max_compression, mat.exponent),
               1e-6 * mat.modulus_Pa);
   EXPECT_GT(m.extrusion_energy_J(), 0.2 * m.crushing_energy_J());
-  for (int i = n; i >= 0; --i) at(0.030 * i / n);  // released
+  for (int i = n; i >= 0; --i) push.to(0.030 * i / n);  // released
   ASSERT_GE(m.events(), 1);
-  EXPECT_NEAR(work, m.crushing_energy_J(), 0.01 * work);
+  EXPECT_NEAR(push.work, m.crushing_energy_J(), 0.01 * push.work);
 }
 
 // Rock pressed out of the nip at the compaction limit has had that pressing: one class of lumps, loose in the bottom

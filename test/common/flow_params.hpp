@@ -1,9 +1,11 @@
 #pragma once
-// Test flow-model parameters shared by the chamber tests: a grid of bands x sectors, no choke feed, prefill as asked.
+// Test flow-model parameters shared by the chamber tests: a grid of bands x sectors, no choke feed, prefill as asked;
+// a mantle pushed aside with the liners' work summed; a model resumed through a checkpoint.
 #include <memory>
 #include <sstream>
 
 #include "chamber/flow_model.hpp"
+#include "coaxial_liners.hpp"
 #include "core/binary_io.hpp"
 
 namespace test_liners {
@@ -16,6 +18,19 @@ inline chamber::FlowParams flow_params(int bands, int sectors, bool prefill = fa
   p.choke_feed = false;
   return p;
 }
+
+// Coaxial liners at rest, the mantle of m pushed along -x (one still step of 1 ms per position, no gravity) and the
+// liners' work on the rock summed by the trapezoid rule: -(force on the mantle) . d(-x).
+struct PushAlongX {
+  chamber::FlowModel& m;
+  Eigen::Vector3d com_m, com_c;
+  double work = 0, x_prev = 0, f_prev = 0;
+  void to(double x) {
+    const auto L = m.step(shifted({-x, 0, 0}), Eigen::Isometry3d::Identity(), com_m, com_c, 1e-3, 0.0);
+    work += 0.5 * (L.f_mantle.x() + f_prev) * (x - x_prev);
+    x_prev = x, f_prev = L.f_mantle.x();
+  }
+};
 
 // A model of p on the given liners that continues from m's state, through a checkpoint stream.
 inline std::unique_ptr<chamber::FlowModel> resumed(const chamber::FlowModel& m, const chamber::FlowParams& p,
