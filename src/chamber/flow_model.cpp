@@ -445,18 +445,29 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   return out;
 }
 
+std::vector<double> material_fingerprint(const FlowMaterial& m) {
+  const auto& b = m.breakage;
+  return {m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression, b.s_c, b.m, b.q,
+          b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta};
+}
+
+std::vector<double> law_fingerprint(const FlowMaterial& m) {
+  std::vector<double> f;
+  if (m.solid_divergence) f.push_back(-2.0);
+  if (m.elastic_limit) f.push_back(-4.0);
+  return f;
+}
+
 // The parameters a state belongs to, bit for bit: sieves, feed, material, breakage and the switches.
 std::vector<double> FlowModel::fingerprint() const {
   const auto& m = p_.material;
-  const auto& b = m.breakage;
   std::vector<double> f = p_.sieves_m;
   f.insert(f.end(), p_.feed_passing.begin(), p_.feed_passing.end());
-  f.insert(f.end(), {m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression, b.s_c,
-                     b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta, double(p_.prefill),
-                     double(p_.choke_feed), double(p_.compaction_memory)});
+  const std::vector<double> rock = material_fingerprint(m), laws = law_fingerprint(m);
+  f.insert(f.end(), rock.begin(), rock.end());
+  f.insert(f.end(), {double(p_.prefill), double(p_.choke_feed), double(p_.compaction_memory)});
   if (m.lump_std > 0) f.insert(f.end(), {m.lump_std, double(p_.seed)});  // (without: as before the scatter)
-  if (m.solid_divergence) f.push_back(-2.0);  // the diverging law (without: as before it)
-  if (m.elastic_limit) f.push_back(-4.0);     // held elastic past the limit (without: as before it)
+  f.insert(f.end(), laws.begin(), laws.end());
   const auto& lf = p_.effects.liner_friction;
   if (lf.enabled) f.insert(f.end(), {-3.0, lf.wall_friction, lf.regularisation_m_s});  // (without: as before it)
   return f;

@@ -56,6 +56,14 @@ struct FlowMaterial {
   BreakageParams breakage;
 };
 
+// What a checkpoint of the flow model must match of its material, in one place for both the flow model's own state and
+// the coupled chamber's (coupling/chamber_checkpoint.cpp); each list keeps the order of the states already written.
+// The rock and its breakage: density, loose fraction, pressure law, selection and progeny.
+std::vector<double> material_fingerprint(const FlowMaterial& m);
+// The laws chosen by a tag each, appended only when on, so that states written before a law existed still load:
+// -2 the diverging pressure law, -4 the rock held elastic past the limit. A new law adds its tag here.
+std::vector<double> law_fingerprint(const FlowMaterial& m);
+
 // The compaction limit of a bed: its solid density (rho0 / (1 - s) = solid density, s = 1 - loose fraction). No bed
 // is denser; the piston-die fit takes it as the flow material's max_compression and extrapolates its pressure law
 // from the deepest pressing to it, rather than capping the pressure where the die stopped.
@@ -197,9 +205,9 @@ class FlowModel {
 
   void save_state(core::BinaryWriter& w) const;
   void load_state(core::BinaryReader& r);  // same parameters; throws naming what differs
+  std::vector<double> fingerprint() const;  // the parameters a state belongs to (saved with it; its order is the format)
 
  private:
-  std::vector<double> fingerprint() const;
   double break_fresh(double* f, const double* pressed, double s0, double s1);
   FlowParams p_;
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle

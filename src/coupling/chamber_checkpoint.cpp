@@ -26,13 +26,10 @@ std::vector<double> fingerprint(const ChamberDem& d) {
   if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
   if (p.fines_flow) {  // the flow model that carries the fines: its cells, sieves and material
     const auto& q = p.fines;
-    const auto& m = q.material;
-    const auto& b = m.breakage;
-    f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors), q.compaction_memory ? 1.0 : 0.0,
-                       m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression,
-                       b.s_c, b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta});
-    if (m.solid_divergence) f.push_back(-2.0);  // the diverging pressure law (without: as before it)
-    if (m.elastic_limit) f.push_back(-4.0);     // held elastic past the limit (without: as before it)
+    const std::vector<double> rock = chamber::material_fingerprint(q.material), laws = chamber::law_fingerprint(q.material);
+    f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors), q.compaction_memory ? 1.0 : 0.0});
+    f.insert(f.end(), rock.begin(), rock.end());
+    f.insert(f.end(), laws.begin(), laws.end());
     f.push_back(static_cast<double>(q.sieves_m.size()));
     f.insert(f.end(), q.sieves_m.begin(), q.sieves_m.end());
   }

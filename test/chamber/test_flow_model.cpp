@@ -604,3 +604,34 @@ TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
   const auto out = m.passing(m.discharged_by_class());
   EXPECT_GT(out[4], p.feed_passing[4] + 0.05);  // 12 mm
 }
+
+// A saved state carries the model's fingerprint and is refused when it differs, so its order is a file format: the
+// order written before the material's list was shared with the coupled chamber (chamber_checkpoint.cpp), value by
+// value, for the default rock and for one with every optional law on (scatter, held elastic past the limit).
+TEST(FlowModel, FingerprintKeepsTheOrderOfTheStatesAlreadyWritten) {
+  const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
+  chamber::FlowParams p;
+  p.bands = 4;
+  p.sectors = 4;
+  auto expected = [](const chamber::FlowParams& q, std::vector<double> tail) {
+    const auto& m = q.material;
+    const auto& b = m.breakage;
+    std::vector<double> f = q.sieves_m;
+    f.insert(f.end(), q.feed_passing.begin(), q.feed_passing.end());
+    f.insert(f.end(), {m.solid_density, m.loose_fraction, m.modulus_Pa, m.exponent, m.rebound, m.max_compression,
+                       b.s_c, b.m, b.q, b.x_ref, b.x_resolved, b.q_below, b.phi, b.gamma, b.beta, double(q.prefill),
+                       double(q.choke_feed), double(q.compaction_memory)});
+    f.insert(f.end(), tail.begin(), tail.end());
+    return f;
+  };
+  EXPECT_EQ(chamber::FlowModel(p, mantle, concave).fingerprint(), expected(p, {}));
+  p.material.lump_std = 0.5;
+  p.seed = 7;
+  p.material.elastic_limit = true;
+  EXPECT_EQ(chamber::FlowModel(p, mantle, concave).fingerprint(), expected(p, {0.5, 7.0, -4.0}));
+  EXPECT_EQ(chamber::law_fingerprint(p.material), std::vector<double>{-4.0});
+  p.material.elastic_limit = false;
+  p.material.solid_divergence = true;
+  p.material.max_compression = 0.9 * chamber::solid_compaction_limit(p.material.loose_fraction);
+  EXPECT_EQ(chamber::law_fingerprint(p.material), std::vector<double>{-2.0});
+}
