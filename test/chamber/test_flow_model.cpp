@@ -635,3 +635,34 @@ TEST(FlowModel, FingerprintKeepsTheOrderOfTheStatesAlreadyWritten) {
   p.material.max_compression = 0.9 * chamber::solid_compaction_limit(p.material.loose_fraction);
   EXPECT_EQ(chamber::law_fingerprint(p.material), std::vector<double>{-2.0});
 }
+
+// With memory, pressed rock released springs back by the law's rebound (unloaded below er = (1 - rebound) c), so it
+// takes that room: feed poured onto it fills the gap and the cell is unloaded at the fill, loading again only as the
+// gap closes. (When the room counted the rock at c, the fill put the cell on its reload branch at E c'^n at once: the
+// top band was never free to fall and the feed opening jammed.)
+TEST(FlowModel, CompactedRockTakesItsReboundedRoomSoAFillIsUnloaded) {
+  auto p = params(6, 8);
+  p.compaction_memory = true;
+  p.choke_feed = true;
+  chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+  const std::size_t k = 5 * 8 + 0;  // top band
+  const double V0 = m.cell_area(k) * 0.05;
+  std::vector<double> feed(m.classes(), 0.0);
+  feed[m.classes() - 2] = V0 * m.loose_density();  // the 50 mm gap full, loose
+  m.deposit(k, feed);
+  const double m0 = m.cell_mass(k);
+  const int n = 1000;
+  shift_steps(m, 0.012, n, 1, n);  // the gap at sector 0 closes by about 11 mm
+  const double s = 1 - m.cell_gap(k) / 0.05;
+  ASSERT_GT(m.cell_pressure(k), 0.0);
+  shift_steps(m, 0.012, n, n - 1, 0);  // open again to 50 mm: released, the feed fills the room
+  const double c = s, r = p.material.rebound, cap = V0 * m.loose_density();
+  EXPECT_NEAR(m.cell_mass(k), m0 + (cap - m0 * (1 - (1 - r) * c)), 1e-9 * cap);
+  m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+  const double c_mix = m0 * c / m.cell_mass(k);
+  const double p_reload = p.material.modulus_Pa * std::pow(c_mix, p.material.exponent);
+  EXPECT_LT(m.cell_pressure(k), 1e-9 * p_reload) << "the fill loaded the cell";
+  shift_steps(m, 0.012, n, 1, 20);  // 0.24 mm closer: the mixture reloads from zero
+  EXPECT_GT(m.cell_pressure(k), 0.0);
+  EXPECT_LT(m.cell_pressure(k), p_reload);
+}
