@@ -205,7 +205,8 @@ class FlowModel {
 
   void save_state(core::BinaryWriter& w) const;
   void load_state(core::BinaryReader& r);  // same parameters; throws naming what differs
-  std::vector<double> fingerprint() const;  // the parameters a state belongs to (saved with it; its order is the format)
+  // The parameters a state belongs to (saved with it, so its order is part of the file format).
+  std::vector<double> fingerprint() const;
 
  private:
   double break_fresh(double* f, const double* pressed, double s0, double s1);

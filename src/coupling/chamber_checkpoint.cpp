@@ -26,8 +26,10 @@ std::vector<double> fingerprint(const ChamberDem& d) {
   if (p.feed.rock_density > 0) f.push_back(p.feed.rock_density);  // likewise
   if (p.fines_flow) {  // the flow model that carries the fines: its cells, sieves and material
     const auto& q = p.fines;
-    const std::vector<double> rock = chamber::material_fingerprint(q.material), laws = chamber::law_fingerprint(q.material);
-    f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors), q.compaction_memory ? 1.0 : 0.0});
+    const std::vector<double> rock = chamber::material_fingerprint(q.material);
+    const std::vector<double> laws = chamber::law_fingerprint(q.material);
+    f.insert(f.end(), {-1.0, static_cast<double>(q.bands), static_cast<double>(q.sectors),
+                       q.compaction_memory ? 1.0 : 0.0});
     f.insert(f.end(), rock.begin(), rock.end());
     f.insert(f.end(), laws.begin(), laws.end());
     f.push_back(static_cast<double>(q.sieves_m.size()));
