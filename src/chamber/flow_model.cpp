@@ -145,10 +145,10 @@ double FlowModel::sum_classes(std::size_t k) const {
   return std::accumulate(m, m + classes(), 0.0);
 }
 
-// Loose mass that fills the space cell k's rock takes: compacted rock (c), released, springs back by the bed law's
-// rebound and takes m (1 - (1 - rebound) c) / rho0 of it (mbd::bed_compacted: unloaded below er = (1 - rebound) c).
+// Loose mass that fills the space cell k's rock takes: compacted rock, released, takes m (1 - er) / rho0 of it, er the
+// compaction the bed law releases it at (mbd::released_compaction, (1 - rebound) c).
 double FlowModel::loose_volume_mass(std::size_t k) const {
-  return p_.compaction_memory ? total_[k] * (1.0 - (1.0 - p_.material.rebound) * bed_[k].c) : total_[k];
+  return p_.compaction_memory ? total_[k] * (1.0 - mbd::released_compaction(bed_[k], p_.material.rebound)) : total_[k];
 }
 
 double FlowModel::mass_kg() const { return std::accumulate(mass_.begin(), mass_.end(), 0.0); }

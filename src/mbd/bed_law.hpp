@@ -55,8 +55,11 @@ struct CompactedBed {
 // p = E c^n ((e - er) / (rebound c))^n, er = (1 - rebound) c; below er the liner has left the rock, p = 0, and the
 // rock keeps c. So a pressed-and-released bed reloads stiffly, without loss, up to c; a loop that takes it from c0
 // to c1 loses (1 - rebound) E (c1^(n+1) - c0^(n+1)) / (n + 1). Only re-pouring loosens it (mix_compaction).
+// Where a bed compacted to b.c is released (p = 0 at and below it): the compaction it springs back to.
+inline double released_compaction(const CompactedBed& b, double rebound) { return (1.0 - rebound) * b.c; }
+
 inline BedPressure bed_compacted(CompactedBed& b, double e, double E, double n, double rebound) {
-  const double er = (1.0 - rebound) * b.c;
+  const double er = released_compaction(b, rebound);
   if (e <= er || e <= 0) {
     b.pressed = false;
     return {};
