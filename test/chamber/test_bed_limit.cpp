@@ -77,7 +77,42 @@ TEST(BedLimit, HeldRockPressesElasticallyPastTheLimitAndLosesOnlyTheLawsLoop) {
   (void)volume_ext;
 }
 
-// Held past the limit is the power law's, without compaction memory; other combinations are refused by name.
+// With compaction memory the held rock keeps the limit's compaction when released: the first loop from loose is the
+// same as without memory (pressure and loss as above), and a second loop to the same gap reloads along the law's
+// lossless branch and the locked layer's elastic one, so it books nothing more; without memory the rock is poured loose
+// again at the release and the second loop loses as much as the first.
+TEST(BedLimit, HeldRockWithCompactionMemoryReloadsWithoutLoss) {
+  auto run = [](bool memory, double* p_first, double* energy_first, double* energy_second) {
+    auto p = test_liners::flow_params(6, 1, true);
+    p.material.elastic_limit = true;
+    p.compaction_memory = memory;
+    chamber::FlowModel m(p, cylinder(0.3), cylinder(0.35, -0.8, -0.2));
+    m.step(kRest, kRest, kComM, kComC, 1e-3, 0.0);
+    const int steps = 3000;
+    test_liners::PushAlongX push{m, kComM, kComC};
+    for (int loop = 0; loop < 2; ++loop) {
+      for (int i = 1; i <= steps; ++i) push.to(0.030 * i / steps);  // gap 50 -> 20 mm
+      if (loop == 0) *p_first = m.cell_pressure(5);
+      for (int i = steps; i >= 0; --i) push.to(0.030 * i / steps);  // released
+      *(loop == 0 ? energy_first : energy_second) = m.crushing_energy_J();
+      EXPECT_NEAR(m.crushing_energy_J(), push.work, 1e-3 * push.work);
+    }
+    EXPECT_EQ(m.discharged_kg(), 0.0);  // held: nothing pressed out
+  };
+  const auto mat = test_liners::flow_params(6, 1).material;
+  const double E = mat.modulus_Pa, n = mat.exponent, r = mat.rebound, s = mat.max_compression;
+  double p_mem, first_mem, second_mem, p_forget, first_forget, second_forget;
+  run(true, &p_mem, &first_mem, &second_mem);
+  run(false, &p_forget, &first_forget, &second_forget);
+  const double eps = 1.0 - 0.020 / (0.050 * (1.0 - s));
+  const double p_expected = E * std::pow(s, n) * (1.0 + n * (1.0 - s) * eps / (r * s));
+  EXPECT_NEAR(p_mem, p_expected, 1e-9 * p_expected);
+  EXPECT_NEAR(first_mem, first_forget, 1e-9 * first_forget);
+  EXPECT_NEAR(second_mem, first_mem, 1e-3 * first_mem);  // the reload lost nothing
+  EXPECT_NEAR(second_forget, 2.0 * first_forget, 2e-3 * first_forget);
+}
+
+// Held past the limit is the power law's (with or without compaction memory); the diverging law is refused by name.
 TEST(BedLimit, TheElasticLimitIsRefusedWhereItIsNotImplemented) {
   auto p = test_liners::flow_params(4, 4);
   p.material.elastic_limit = true;
