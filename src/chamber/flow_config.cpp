@@ -109,8 +109,8 @@ const core::Schema<FlowParams>& flow_schema() {
         .integer("seed", 0, 2147483647, [](P& p) -> int& { return p.seed; },
                  "seed of the pressings' scatter (material scatter.lump_std > 0)")
         .boolean("compaction_memory", [](P& p) -> bool& { return p.compaction_memory; },
-                 "the rock keeps its compaction between pressings (needs at_limit extrude; on the GYP1200 the 600 rpm "
-                 "mantle overruns the bed)")
+                 "the rock keeps its compaction between pressings (on the GYP1200, calibrated at 400 rpm, the 600 rpm "
+                 "chamber fails: extrude overruns the bed, elastic chokes it; src/chamber/README.md)")
         // Chamber candidates of the diagnosis (flow_model.hpp FlowEffects), off by default.
         .boolean("effects.feed_limited.enabled", [](P& p) -> bool& { return p.effects.feed_limited.enabled; },
                  "at most a feeder's rate enters the chamber (choke feed below it)")

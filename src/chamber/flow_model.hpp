@@ -126,7 +126,8 @@ struct FlowParams {
   bool choke_feed = true;  // false: no feed (the chamber runs empty)
   // false (shipped): every release forgets the compaction and the next pressing starts a virgin curve where the rock
   // is (mbd::bed_hysteretic). true: the rock keeps it until re-poured (mbd::bed_compacted; breakage by the hazard's
-  // rise). Not shipped: calibrated at 400 rpm, the GYP1200 overruns the bed at 600 rpm (src/chamber/README.md).
+  // rise). Not shipped: calibrated at 400 rpm, the GYP1200's 600 rpm chamber fails with either limit law (overrun
+  // with extrude, choked with elastic; src/chamber/README.md).
   bool compaction_memory = false;
   int seed = 1;               // of the pressings' scatter (material.lump_std > 0)
   std::string material_file;  // config: flow.material_file as given ("" none); its values are in `material`
