@@ -140,6 +140,7 @@ void PistonDieOptions::validate() const {
   if (!(dt_safety > 0.0 && dt_safety <= 1.0)) bad("dt_safety: accepted (0, 1]");
   if (!(max_overlap_fraction > 0.0 && max_overlap_fraction <= 1.0)) bad("max_overlap_fraction: accepted (0, 1]");
   if (!(unload_stop_ratio > 0.0 && unload_stop_ratio < 0.5)) bad("unload_stop_ratio: accepted (0, 0.5)");
+  if (reloads < 0 || reloads > 20) bad("reloads: accepted 0-20 pressings of the same bed after the first");
   if (record_every < 1) bad("record_every: accepted >= 1");
   if (!(resolve_diameters >= 1.0)) bad("resolve_diameters: accepted >= 1");
   if (threads < 1 || threads > 256) bad("threads: accepted 1-256");
@@ -304,28 +305,21 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   }
   const std::string settled = state.str();
 
-  // ---- each s_max on a copy of the settled bed: load, unload, screen
+  // ---- each s_max on a copy of the settled bed: load, unload, screen; then `reloads` more pressings of the same bed
   const double H0 = res.bed_height, A = res.die_area, v = o.piston_speed;
-  for (double s_max : o.compression_ratios) {
+  // One pressing of the bed in wk from the piston's height z0 down to s_max and back until the bed lets go; fills L
+  // (curves, energies, bonds broken since `breaks0`, PSD). False when it blew up (res.blowup says where).
+  auto press = [&](dem::World& wk, const Die& d, double s_max, double z0, std::size_t breaks0, PressLoop& L) {
     const auto tl = Clock::now();
-    Die d = make_die(wp, R, column, o.threads);
-    {
-      std::istringstream is(settled);
-      core::BinaryReader br(is, "settled piston-die bed");
-      d.world->load_state(br);
-    }
-    dem::World& wk = *d.world;
-    const double start[3] = {0, 0, H0}, vdown[3] = {0, 0, -v}, vup[3] = {0, 0, v};
+    const double start[3] = {0, 0, z0}, vdown[3] = {0, 0, -v}, vup[3] = {0, 0, v};
     wk.set_wall_position(d.piston, start);
     wk.set_wall_velocity(d.piston, vdown);
-    PressLoop L;
     L.s_max = s_max;
-    L.s.push_back(0.0), L.p.push_back(0.0), L.phase.push_back(0);
+    L.s.push_back((H0 - z0) / H0), L.p.push_back(0.0), L.phase.push_back(0);
     int phase = 0;
     double fsum = 0.0, ssum = 0.0, peak = 0.0;
     int n = 0;
     double next_report = seconds_since(tl) + 10.0;
-    bool blew_up = false;
     for (;;) {
       try {
         wk.step(1);
@@ -334,8 +328,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
         char at[64];
         std::snprintf(at, sizeof at, "s_max %.2f blew up at s %.4f: ", s_max, L.s_reached);
         res.blowup = at + std::string(e.what());
-        blew_up = true;
-        break;
+        return false;
       }
       const double s = (H0 - wk.wall(d.piston).p[2]) / H0;
       fsum += wk.wall(d.piston).force[2];  // particles push the piston up (+z)
@@ -355,14 +348,12 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
       }
       if (o.verbose && seconds_since(tl) > next_report) {
         std::fprintf(stderr, "  s_max %.2f: %s s %.4f p %.3f MPa, %zu bonds broken\n", s_max,
-                     phase ? "unloading" : "loading", sm, pm * 1e-6, wk.breaks().size() - settle_breaks);
+                     phase ? "unloading" : "loading", sm, pm * 1e-6, wk.breaks().size() - breaks0);
         next_report = seconds_since(tl) + 10.0;
       }
     }
-    if (blew_up) {  // a deeper pressing of this bed would jam again: the completed loops are the result
-      if (o.verbose) std::fprintf(stderr, "  %s; the %zu loops completed are kept\n", res.blowup.c_str(), res.loops.size());
-      break;
-    }
+    const double still[3] = {0, 0, 0};
+    wk.set_wall_velocity(d.piston, still);
     std::vector<double> sl, pl;
     for (std::size_t k = 0; k < L.s.size(); ++k)
       if (L.phase[k] == 0) sl.push_back(L.s[k]), pl.push_back(L.p[k]);
@@ -370,16 +361,39 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     L.loop_energy = path_integral(L.s, L.p);
     L.energy_per_kg = A * H0 * L.loop_energy / res.rock_mass;
     L.loading_energy_per_kg = A * H0 * L.loading_work / res.rock_mass;
-    L.bonds_broken = wk.breaks().size() - settle_breaks;
+    L.bonds_broken = wk.breaks().size() - breaks0;
     double m = 0.0;
     L.passing = fragment_passing(wk, sieves, &m, &L.fragments);
     L.mass_error = std::abs(m - res.rock_mass) / res.rock_mass;
     L.wall_s = seconds_since(tl);
     if (o.verbose)
-      std::fprintf(stderr, "  s_max %.2f: peak %.3f MPa, loop %.1f J/kg of %.1f J/kg loading, %zu bonds broken, "
-                   "%d fragments, %.0f s\n", s_max, peak * 1e-6, L.energy_per_kg, L.loading_energy_per_kg,
-                   L.bonds_broken, L.fragments, L.wall_s);
+      std::fprintf(stderr, "  s_max %.2f%s: peak %.3f MPa, loop %.1f J/kg of %.1f J/kg loading, %zu bonds broken, "
+                   "%d fragments, %.0f s\n", s_max, z0 < H0 ? " again" : "", peak * 1e-6, L.energy_per_kg,
+                   L.loading_energy_per_kg, L.bonds_broken, L.fragments, L.wall_s);
+    return true;
+  };
+  for (double s_max : o.compression_ratios) {
+    Die d = make_die(wp, R, column, o.threads);
+    {
+      std::istringstream is(settled);
+      core::BinaryReader br(is, "settled piston-die bed");
+      d.world->load_state(br);
+    }
+    dem::World& wk = *d.world;
+    PressLoop L;
+    bool blew_up = !press(wk, d, s_max, H0, settle_breaks, L);
+    for (int k = 0; k < o.reloads && !blew_up; ++k) {  // the same bed again, from where the piston let go of it
+      PressLoop again;
+      const std::size_t breaks0 = wk.breaks().size();
+      blew_up = !press(wk, d, s_max, wk.wall(d.piston).p[2], breaks0, again);
+      if (!blew_up) L.reloads.push_back(std::move(again));
+    }
+    if (blew_up && L.passing.empty()) {  // its first pressing blew up: a deeper pressing of this bed would jam again
+      if (o.verbose) std::fprintf(stderr, "  %s; the %zu loops completed are kept\n", res.blowup.c_str(), res.loops.size());
+      break;
+    }
     res.loops.push_back(std::move(L));
+    if (blew_up) break;
   }
   res.wall_s = seconds_since(t0);
   return res;

@@ -55,6 +55,9 @@ struct PistonDieOptions {
   // of Hertz overlap, which the default 0.5 calls a blow-up (the step is 1/20 of that sphere's Rayleigh step).
   double max_overlap_fraction = 0.9;
   double unload_stop_ratio = 0.002;  // unloading ends when p < this x peak p
+  // Pressings of the same bed again to the same s_max after the first (each from where the piston let go of the bed,
+  // nothing re-poured): what a compacted bed dissipates and breaks when it is reloaded (PressLoop::reloads).
+  int reloads = 0;
   int record_every = 50;             // steps per recorded (averaged) point
   double resolve_diameters = 2.0;    // classes resolved: lower bound >= this x volume-mean metaparticle diameter
   unsigned long long seed = 1;
@@ -85,6 +88,10 @@ struct PressLoop {
   std::vector<double> passing;       // product PSD: mass fraction passing each sieve of flow_sieves_mm()
   int fragments = 0;
   double wall_s = 0.0;
+  // PistonDieOptions::reloads: the same bed pressed again to s_max, in order. Their s counts from the first loop's H0,
+  // their energies per the same bed volume and rock mass, their bonds_broken those of that pressing alone. Not used by
+  // the fits (the flow model's law reloads without loss: src/chamber/README.md) and not in the pourings' record.
+  std::vector<PressLoop> reloads;
 };
 
 struct PistonDieResult {

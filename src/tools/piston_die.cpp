@@ -1,6 +1,6 @@
 // piston_die: virtual piston-die test on the calibrated bonded-particle rock (or a plant's lab results) and the
 // chamber flow model's material parameters fitted from it (src/chamber/piston_die.hpp).
-//   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--replicates K] [--lab CSV]
+//   piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--replicates K] [--reloads K] [--lab CSV]
 //   piston_die --out DIR --pool DIR1,DIR2,...      (the pourings of earlier runs fitted together, no DEM)
 // Writes DIR/piston_die.csv (s_max,phase,s,p_MPa), DIR/psd.csv (s_max,sieve_mm,passing_pct; s_max "feed" for the
 // feed), DIR/psd_fit.csv (the fitted breakage event, same columns), DIR/flow_material.yaml, DIR/piston_die_pourings.txt
@@ -9,6 +9,7 @@
 // DIR/piston_die_fits.csv (each pouring's own fit, the pooled one, which flow_material.yaml holds, and with three or
 // more the jackknife's: the pooled fit without each pouring, also as DIR/jackknife/flow_material_without_seed<S>.yaml,
 // which `crusher validate --rock-spread DIR` reads) and, through plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
+// With --reloads also DIR/piston_die_reloads.csv and DIR/piston_die_reload_curves.csv (write_reloads).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,14 +45,17 @@ struct Args {
   std::vector<double> ratios;  // empty: the library's default
   double die_mm = 0;       // 0: the library's default
   int replicates = 1;      // pourings (seeds seed, seed + 1, ...), fitted pooled; >= 2: also scatter.lump_std
+  int reloads = 0;         // pressings of each bed again to the same s_max after the first (not fitted)
 };
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--lab CSV] [--pool DIR1,DIR2,...]\n"
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--reloads K] [--lab CSV] [--pool DIR1,DIR2,...]\n"
     "  --replicates K: K pourings (seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's "
     "own fit in piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up "
     "keeps the loops it completed; with K >= 3 the jackknife (the pooled fit without each pouring)\n"
+    "  --reloads K: after each first pressing, K more of the same bed to the same s_max (nothing re-poured): the loop "
+    "energy, bonds broken and product of each, printed and in piston_die_reloads.csv (not fitted)\n"
     "  --pool DIR1,DIR2,...: no DEM; the pourings recorded in each DIR/piston_die_pourings.txt (earlier runs of this "
     "program, the same die) fitted together as --replicates does\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
@@ -98,6 +102,7 @@ Args parse(int argc, char** argv) {
       } else if (s == "--rocks") a.rocks = static_cast<int>(args.integer(1, 100000));
       else if (s == "--die-mm") a.die_mm = static_cast<double>(args.integer(50, 2000));
       else if (s == "--replicates") a.replicates = static_cast<int>(args.integer(2, 100));
+      else if (s == "--reloads") a.reloads = static_cast<int>(args.integer(1, 20));
       else if (s == "--threads") a.threads = static_cast<int>(args.integer(1, 256));
       else if (s == "--seed") a.seed = static_cast<unsigned long long>(args.integer(1, 1000000000));
       else if (s == "--dt-safety") {
@@ -111,19 +116,19 @@ Args parse(int argc, char** argv) {
         std::exit(0);
       } else {
         usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
-              "--die-mm, --ratios, --speed-m-s, --replicates, --lab, --pool)");
+              "--die-mm, --ratios, --speed-m-s, --replicates, --reloads, --lab, --pool)");
       }
     }
   } catch (const std::invalid_argument& e) {
     usage(e.what());
   }
   if (a.out.empty()) usage("--out DIR is required");
-  if (!a.lab.empty() && (a.quick || !a.bpm.empty() || a.replicates > 1))
-    usage("--lab fits lab data: --quick, --bpm and --replicates do not apply");
+  if (!a.lab.empty() && (a.quick || !a.bpm.empty() || a.replicates > 1 || a.reloads > 0))
+    usage("--lab fits lab data: --quick, --bpm, --replicates and --reloads do not apply");
   if (!a.pool.empty() && (!a.lab.empty() || a.quick || !a.bpm.empty() || a.replicates > 1 || a.rocks > 0 ||
-                          a.die_mm > 0 || !a.ratios.empty() || a.speed > 0))
-    usage("--pool fits recorded pourings: --lab, --quick, --bpm, --replicates, --rocks, --die-mm, --ratios and "
-          "--speed-m-s do not apply");
+                          a.die_mm > 0 || !a.ratios.empty() || a.speed > 0 || a.reloads > 0))
+    usage("--pool fits recorded pourings: --lab, --quick, --bpm, --replicates, --rocks, --die-mm, --ratios, "
+          "--speed-m-s and --reloads do not apply");
   return a;
 }
 
@@ -237,6 +242,7 @@ std::vector<chamber::PistonDieResult> run_dem(const Args& a, std::string& source
   if (a.rocks > 0) o.rock_count = a.rocks;
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
+  o.reloads = a.reloads;
   std::vector<chamber::PistonDieResult> pourings;
   // Replicates: a pouring whose deeper loop blows up (a jammed bed; half the step jams it too, measured) keeps the
   // loops it completed, and one that blows up in its first loop is left out (named, its state dumped per seed), so
@@ -302,6 +308,46 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
   return pourings;
 }
 
+// Each pressing of each bed (0: the first, from the loose pour; 1, 2, ...: reloads of the same bed) as a row:
+// pouring,seed,s_max,pressing,s_start (where the piston met the bed: the reloads start where it let go),s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken
+// (in that pressing),fragments,passing_<sieve>mm (%); printed as a table too. Their curves in `curves`
+// (pouring,seed,s_max,pressing,phase,s,p_MPa).
+void write_reloads(const std::string& file, const std::string& curves,
+                   const std::vector<chamber::PistonDieResult>& pourings) {
+  std::ofstream csv(file), cv(curves);
+  cv << "pouring,seed,s_max,pressing,phase,s,p_MPa\n";
+  const auto& sv = chamber::flow_sieves_mm();
+  csv << "pouring,seed,s_max,pressing,s_start,s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio,bonds_broken,fragments";
+  for (double x : sv) csv << ",passing_" << f("%g", x) << "mm";
+  csv << "\n";
+  std::printf("reloads: pressing, from s, peak MPa, loop J/kg (x the first's), loading J/kg, bonds broken, passing 22.4 / "
+              "12 mm %%\n");
+  const std::size_t k22 = std::find(sv.begin(), sv.end(), 22.4) - sv.begin(), k12 = std::find(sv.begin(), sv.end(), 12.0) - sv.begin();
+  for (std::size_t i = 0; i < pourings.size(); ++i)
+    for (const auto& first : pourings[i].loops) {
+      std::vector<const chamber::PressLoop*> all{&first};
+      for (const auto& R : first.reloads) all.push_back(&R);
+      for (std::size_t k = 0; k < all.size(); ++k) {
+        const auto& L = *all[k];
+        const double peak = *std::max_element(L.p.begin(), L.p.end());
+        const double ratio = first.energy_per_kg > 0 ? L.energy_per_kg / first.energy_per_kg : 0.0;
+        csv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << f("%.6g", L.s.front()) << ","
+            << f("%.6g", L.s_reached) << ","
+            << f("%.6g", peak * 1e-6) << "," << f("%.6g", L.energy_per_kg) << "," << f("%.6g", L.loading_energy_per_kg)
+            << "," << f("%.6g", ratio) << "," << L.bonds_broken << "," << L.fragments;
+        for (double x : L.passing) csv << "," << f("%.4f", 100 * x);
+        csv << "\n";
+        for (std::size_t q = 0; q < L.s.size(); ++q)
+          cv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << (L.phase[q] ? "unload" : "load")
+             << "," << f("%.6g", L.s[q]) << "," << f("%.6g", L.p[q] * 1e-6) << "\n";
+        std::printf("  seed %llu s_max %.2f pressing %zu: from %.4f, %.3f MPa, %.2f J/kg (x %.3f), %.2f J/kg, %zu bonds, "
+                    "%.2f / %.2f %%\n", pourings[i].seed, L.s_max, k, L.s.front(), peak * 1e-6, L.energy_per_kg, ratio, L.loading_energy_per_kg,
+                    L.bonds_broken, k22 < L.passing.size() ? 100 * L.passing[k22] : 0.0,
+                    k12 < L.passing.size() ? 100 * L.passing[k12] : 0.0);
+      }
+    }
+}
+
 // The pooled fit of the pourings and every output file.
 int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& pourings, const std::string& source) {
   const chamber::PistonDieResult& r = pourings.front();
@@ -363,6 +409,8 @@ int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& po
               << "\n";
   }
   if (!a.pool.empty()) chamber::write_pourings(pourings, a.out + "/piston_die_pourings.txt");  // the pool, for a later one
+  if (a.reloads > 0)
+    write_reloads(a.out + "/piston_die_reloads.csv", a.out + "/piston_die_reload_curves.csv", pourings);
   const auto& sv = chamber::flow_sieves_mm();
   std::ofstream psd(a.out + "/psd.csv"), fit(a.out + "/psd_fit.csv");
   psd << "s_max,sieve_mm,passing_pct\n";

@@ -446,6 +446,14 @@ TEST(PistonDie, OptionsNameWhatIsWrong) {
   o = PistonDieOptions();
   o.compression_ratios = {0.2, 0.1};
   EXPECT_THROW(o.validate(), std::invalid_argument);
+  o = PistonDieOptions();
+  o.reloads = -1;
+  try {
+    o.validate();
+    FAIL() << "negative reloads accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("reloads"), std::string::npos) << e.what();
+  }
 }
 
 // A reduced die on the calibrated BPM: physically meaningful results of the DEM test.
@@ -461,6 +469,7 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
   o.settle_max_time = 0.15;
   o.threads = 1;
   o.seed = 3;
+  o.reloads = 1;
   const PistonDieResult r = run_piston_die(bpm, o);
   ASSERT_EQ(r.loops.size(), 2u);
   EXPECT_EQ(r.rocks, 18);
@@ -473,10 +482,25 @@ TEST(PistonDie, ReducedDieOnCalibratedRock) {
     EXPECT_LT(L.loop_energy, L.loading_work);
     EXPECT_LT(L.mass_error, 1e-12);  // fragments hold every particle
     EXPECT_GE(L.fragments, r.rocks);
+    // The same bed pressed again to s_max: it kept part of its compaction (the piston meets it below H0), the second
+    // pressing dissipates and breaks less than the first (less of it is new compaction), and broken bonds stay broken.
+    ASSERT_EQ(L.reloads.size(), 1u);
+    const PressLoop& R = L.reloads.front();
+    EXPECT_GT(R.s.front(), 0.0);
+    EXPECT_LT(R.s.front(), L.s_max);
+    EXPECT_GE(R.s_reached, L.s_max - 0.01);
+    EXPECT_GT(R.loop_energy, 0.0);
+    EXPECT_LT(R.loop_energy, L.loop_energy);
+    EXPECT_LE(R.bonds_broken, L.bonds_broken);
+    EXPECT_LT(R.mass_error, 1e-12);
+    EXPECT_GE(R.fragments, L.fragments);
+    for (std::size_t k = 0; k < R.passing.size(); ++k) EXPECT_GE(R.passing[k], L.passing[k]) << "sieve " << k;
+    EXPECT_TRUE(R.reloads.empty());
   }
   // pressure rises with s on loading: mean p over successive s bins (0.1 wide: a loose bed of brittle rocks has
   // local drops where a rock fails) increases
   const auto& deep = r.loops.back();
+  EXPECT_LT(deep.reloads.front().bonds_broken, deep.bonds_broken);  // (at 0.15 one bond breaks in each)
   std::vector<double> sum(3, 0.0), cnt(3, 0.0);
   for (std::size_t k = 0; k < deep.s.size(); ++k)
     if (deep.phase[k] == 0 && deep.s[k] > 0.0) {
