@@ -64,7 +64,8 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
               core::format_number(solid_compaction_limit(m.loose_fraction)) + ", where its pressure is infinite");
   require(!m.solid_divergence || !p.compaction_memory,
           "pressure.law solid_divergence is not implemented with compaction_memory: true (use false)");
-  require(!m.elastic_limit || !m.solid_divergence, "pressure.at_limit elastic is implemented for pressure.law power only");
+  require(!m.elastic_limit || !m.solid_divergence,
+          "pressure.at_limit elastic is implemented for pressure.law power only");
   require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
                                                            core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");

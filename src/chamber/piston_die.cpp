@@ -389,7 +389,8 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
       if (!blew_up) L.reloads.push_back(std::move(again));
     }
     if (blew_up && L.passing.empty()) {  // its first pressing blew up: a deeper pressing of this bed would jam again
-      if (o.verbose) std::fprintf(stderr, "  %s; the %zu loops completed are kept\n", res.blowup.c_str(), res.loops.size());
+      if (o.verbose)
+        std::fprintf(stderr, "  %s; the %zu loops completed are kept\n", res.blowup.c_str(), res.loops.size());
       break;
     }
     res.loops.push_back(std::move(L));

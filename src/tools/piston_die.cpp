@@ -50,7 +50,8 @@ struct Args {
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--reloads K] [--lab CSV] [--pool DIR1,DIR2,...]\n"
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--reloads K] [--lab CSV] "
+    "[--pool DIR1,DIR2,...]\n"
     "  --replicates K: K pourings (seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's "
     "own fit in piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up "
     "keeps the loops it completed; with K >= 3 the jackknife (the pooled fit without each pouring)\n"
@@ -309,20 +310,22 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
 }
 
 // Each pressing of each bed (0: the first, from the loose pour; 1, 2, ...: reloads of the same bed) as a row:
-// pouring,seed,s_max,pressing,s_start (where the piston met the bed: the reloads start where it let go),s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken
-// (in that pressing),fragments,passing_<sieve>mm (%); printed as a table too. Their curves in `curves`
-// (pouring,seed,s_max,pressing,phase,s,p_MPa).
+// pouring,seed,s_max,pressing,s_start (where the piston met the bed: a reload starts where the last let go),
+// s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken (in that pressing),fragments,
+// passing_<sieve>mm (%); printed as a table too. Their curves in `curves` (pouring,seed,s_max,pressing,phase,s,p_MPa).
 void write_reloads(const std::string& file, const std::string& curves,
                    const std::vector<chamber::PistonDieResult>& pourings) {
   std::ofstream csv(file), cv(curves);
   cv << "pouring,seed,s_max,pressing,phase,s,p_MPa\n";
   const auto& sv = chamber::flow_sieves_mm();
-  csv << "pouring,seed,s_max,pressing,s_start,s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio,bonds_broken,fragments";
+  csv << "pouring,seed,s_max,pressing,s_start,s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio,bonds_broken,"
+         "fragments";
   for (double x : sv) csv << ",passing_" << f("%g", x) << "mm";
   csv << "\n";
-  std::printf("reloads: pressing, from s, peak MPa, loop J/kg (x the first's), loading J/kg, bonds broken, passing 22.4 / "
-              "12 mm %%\n");
-  const std::size_t k22 = std::find(sv.begin(), sv.end(), 22.4) - sv.begin(), k12 = std::find(sv.begin(), sv.end(), 12.0) - sv.begin();
+  std::printf("reloads: pressing, from s, peak MPa, loop J/kg (x the first's), loading J/kg, bonds broken, "
+              "passing 22.4 / 12 mm %%\n");
+  const std::size_t k22 = std::find(sv.begin(), sv.end(), 22.4) - sv.begin();
+  const std::size_t k12 = std::find(sv.begin(), sv.end(), 12.0) - sv.begin();
   for (std::size_t i = 0; i < pourings.size(); ++i)
     for (const auto& first : pourings[i].loops) {
       std::vector<const chamber::PressLoop*> all{&first};
@@ -340,9 +343,10 @@ void write_reloads(const std::string& file, const std::string& curves,
         for (std::size_t q = 0; q < L.s.size(); ++q)
           cv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << (L.phase[q] ? "unload" : "load")
              << "," << f("%.6g", L.s[q]) << "," << f("%.6g", L.p[q] * 1e-6) << "\n";
-        std::printf("  seed %llu s_max %.2f pressing %zu: from %.4f, %.3f MPa, %.2f J/kg (x %.3f), %.2f J/kg, %zu bonds, "
-                    "%.2f / %.2f %%\n", pourings[i].seed, L.s_max, k, L.s.front(), peak * 1e-6, L.energy_per_kg, ratio, L.loading_energy_per_kg,
-                    L.bonds_broken, k22 < L.passing.size() ? 100 * L.passing[k22] : 0.0,
+        std::printf("  seed %llu s_max %.2f pressing %zu: from %.4f, %.3f MPa, %.2f J/kg (x %.3f), %.2f J/kg, "
+                    "%zu bonds, %.2f / %.2f %%\n", pourings[i].seed, L.s_max, k, L.s.front(), peak * 1e-6,
+                    L.energy_per_kg, ratio, L.loading_energy_per_kg, L.bonds_broken,
+                    k22 < L.passing.size() ? 100 * L.passing[k22] : 0.0,
                     k12 < L.passing.size() ? 100 * L.passing[k12] : 0.0);
       }
     }
