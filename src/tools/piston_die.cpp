@@ -332,7 +332,7 @@ void write_reloads(const std::string& file, const std::string& curves,
       for (const auto& R : first.reloads) all.push_back(&R);
       for (std::size_t k = 0; k < all.size(); ++k) {
         const auto& L = *all[k];
-        const double peak = *std::max_element(L.p.begin(), L.p.end());
+        const double peak = chamber::loop_peak_pressure(L);
         const double ratio = first.energy_per_kg > 0 ? L.energy_per_kg / first.energy_per_kg : 0.0;
         csv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << f("%.6g", L.s.front()) << ","
             << f("%.6g", L.s_reached) << ","
@@ -439,7 +439,7 @@ int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& po
           f("%.3f", r.settle_time) + " s, wall " + f("%.0f", r.wall_s) + " s"};
   for (const auto& L : r.loops)
     prov.push_back("s_max " + f("%.2f", L.s_max) + ": reached " + f("%.4f", L.s_reached) + ", peak " +
-                   f("%.3f", *std::max_element(L.p.begin(), L.p.end()) * 1e-6) + " MPa, absorbed " +
+                   f("%.3f", chamber::loop_peak_pressure(L) * 1e-6) + " MPa, absorbed " +
                    f("%.2f", L.energy_per_kg) + " J/kg of " + f("%.2f", L.loading_energy_per_kg) +
                    " J/kg loading work, " + std::to_string(L.bonds_broken) + " bonds broken, " +
                    std::to_string(L.fragments) + " fragments, mass error " + f("%.1e", L.mass_error));
