@@ -39,7 +39,8 @@ class DomainEngine {
   // every process.
   virtual std::string gather(const std::string& mine) = 0;
   virtual std::string broadcast(const std::string& on_root) = 0;
-  virtual int recuts() const = 0;  // how often the charge was cut anew
+  virtual int recuts() const = 0;  // how often the charge was cut anew (rebalanced, or edited)
+  virtual int migrations() const { return 0; }  // how often the particles migrated, the sectors kept
 };
 
 // The reductions of one process: identities.
@@ -80,6 +81,7 @@ class LocalEngine : public OneProcessEngine {
   void step() override { d_.step(1); }
   void edit(const std::function<void(World&)>& fn) override { d_.edit(fn); }
   int recuts() const override { return d_.recuts(); }
+  int migrations() const override { return d_.migrations(); }
   const LocalDomains& domains() const { return d_; }
 
  private:

@@ -84,13 +84,15 @@ std::unique_ptr<World> load(const std::string& checkpoint, const WorldParams& pa
 }
 }  // namespace
 
-Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
-                  int ranks, int rank, double reach) {
+namespace {
+// Rank `rank`'s part of the charge in w (all of it, or all a migration needs): sectors `keep` or, when null,
+// equal-count sectors of w's particles.
+Domain cut_world(std::unique_ptr<World> w, int ranks, int rank, double reach, const SectorDecomposition* keep) {
   if (ranks < 1 || rank < 0 || rank >= ranks)
     throw std::invalid_argument("cut_charge: rank " + std::to_string(rank) + " of " + std::to_string(ranks) +
                                 " ranks (accepted: 0 <= rank < ranks)");
   Domain d;
-  d.world = load(checkpoint, params, setup);
+  d.world = std::move(w);
   const Particles& p = d.world->particles();
   const double r_max = p.size() ? *std::max_element(p.r.begin(), p.r.end()) : 0.0;
   d.margin = 0.5 * (reach - 2 * r_max);
@@ -98,11 +100,65 @@ Domain cut_charge(const std::string& checkpoint, const WorldParams& params, cons
     throw std::invalid_argument("cut_charge: the reach " + std::to_string(reach) +
                                 " m must exceed the largest contact distance 2 r_max = " + std::to_string(2 * r_max) +
                                 " m");
-  d.sectors = balanced_sectors(p.x.data(), p.y.data(), p.size(), ranks);
+  d.sectors = keep ? *keep : balanced_sectors(p.x.data(), p.y.data(), p.size(), ranks);
   const RankLayout layout = rank_layout(d.sectors, p.x.data(), p.y.data(), p.size(), reach);
   d.plan = cut_domain(*d.world, layout, rank);
   for (std::size_t i = 0; i < p.size(); ++i)
     if (d.plan.owned[i]) d.x_cut.insert(d.x_cut.end(), {p.x[i], p.y[i], p.z[i]});
+  return d;
+}
+}  // namespace
+
+Domain cut_charge(const std::string& checkpoint, const WorldParams& params, const std::function<void(World&)>& setup,
+                  int ranks, int rank, double reach) {
+  return cut_world(load(checkpoint, params, setup), ranks, rank, reach, nullptr);
+}
+
+std::vector<long> owner_counts(const Domain& d) {
+  const Particles& p = d.world->particles();
+  std::vector<long> n(static_cast<std::size_t>(d.sectors.ranks()), 0);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (d.plan.owned[i]) ++n[static_cast<std::size_t>(d.sectors.owner(p.x[i], p.y[i]))];
+  return n;
+}
+
+bool needs_rebalance(const std::vector<long>& counts, double tolerance) {
+  long all = 0, most = 0;
+  for (long c : counts) all += c, most = std::max(most, c);
+  return counts.empty() || static_cast<double>(most) > (1.0 + tolerance) * static_cast<double>(all) /
+                                                           static_cast<double>(counts.size());
+}
+
+std::vector<char> migration_peers(const Domain& d, double reach) {
+  const Particles& p = d.world->particles();
+  const int P = d.sectors.ranks(), me = d.plan.rank;
+  std::vector<char> to(static_cast<std::size_t>(P), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!d.plan.owned[i]) continue;
+    const int o = d.sectors.owner(p.x[i], p.y[i]);
+    to[o] = 1;
+    for (int q = 0; q < P; ++q)
+      if (q != o && !to[q] && d.sectors.boundary_distance(q, p.x[i], p.y[i]) < reach) to[q] = 1;
+  }
+  to[me] = 0;
+  return to;
+}
+
+Domain migrate_domain(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                      const Domain& mine, const WorldParams& params, const std::function<void(World&)>& setup,
+                      double reach) {
+  auto w = std::make_unique<World>(params);
+  if (setup) setup(*w);
+  std::vector<uint64_t> dangling;
+  w->assemble(parts, owned, &dangling);
+  const int P = mine.sectors.ranks(), rank = mine.plan.rank;
+  Domain d = cut_world(std::move(w), P, rank, reach, &mine.sectors);
+  std::sort(dangling.begin(), dangling.end());
+  const Particles& p = d.world->particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (d.plan.owned[i] && std::binary_search(dangling.begin(), dangling.end(), p.id[i]))
+      throw std::runtime_error("migration on rank " + std::to_string(rank) + ": particle " + std::to_string(p.id[i]) +
+                               " lost a bond or contact whose other particle no peer sent");
   return d;
 }
 
@@ -232,9 +288,32 @@ void LocalDomains::exchange() {
     }
 }
 
+void LocalDomains::migrate() {
+  const int P = ranks();
+  std::vector<std::vector<char>> to;
+  for (const Domain& d : domains_) to.push_back(migration_peers(d, reach_));
+  std::vector<Domain> next;
+  for (int r = 0; r < P; ++r) {  // rank r's parts in rank order: its own and those of the peers that send to it
+    std::vector<const World*> parts;
+    std::vector<std::vector<char>> owned;
+    for (int q = 0; q < P; ++q)
+      if (q == r || to[q][r]) parts.push_back(domains_[q].world.get()), owned.push_back(domains_[q].plan.owned);
+    next.push_back(migrate_domain(parts, owned, domains_[r], params_, setup_, reach_));
+  }
+  domains_.swap(next);
+  ++migrations_;
+}
+
 void LocalDomains::step(long n) {
   for (long s = 0; s < n; ++s) {
-    if (max_displacement() > margin()) recut();
+    if (max_displacement() > margin()) {
+      std::vector<long> counts(static_cast<std::size_t>(ranks()), 0);
+      for (const Domain& d : domains_) {
+        const std::vector<long> c = owner_counts(d);
+        for (std::size_t q = 0; q < c.size(); ++q) counts[q] += c[q];
+      }
+      if (needs_rebalance(counts, rebalance_tolerance_)) recut(); else migrate();
+    }
     for (Domain& d : domains_) d.world->step_begin();
     exchange();
     for (Domain& d : domains_) d.world->step_end();

@@ -13,9 +13,13 @@
 // (World::set_ghosts), so a rank's liner wrench is its owned particles' share.
 //
 // The layout holds while no particle has moved more than margin = (reach - 2 r_max) / 2 from where it was at the
-// cut: two particles that were `reach` apart cannot touch before. Then the charge is cut anew: put back together
-// from the owned particles (World::assemble) and cut into rebalanced sectors, so particles change owner with their
-// bonds, contact histories and break logs (through one process; MPI: through rank 0).
+// cut: two particles that were `reach` apart cannot touch before. Then the particles migrate, the sectors kept: each
+// rank sends its part to the peers that own one of its particles now or see it as a ghost (migration_peers), and
+// cuts its new part from the union of its own and the received parts (migrate_domain), so particles change owner
+// with their bonds, contact histories and break logs, O(N / P) work and traffic per rank. Only when the sectors'
+// counts would differ by more than the rebalance tolerance (default 5 % over the mean), and at edits, is the charge
+// cut anew: put back together whole (World::assemble) and cut into equal-count sectors (in one process; MPI: through
+// rank 0, O(N) per rank).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -50,6 +54,10 @@ constexpr std::size_t kGhostDoubles = 9;
 void pack_ghosts(const Particles& p, const std::vector<uint32_t>& idx, std::vector<double>& buf);
 void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double* buf);
 
+// Default relative imbalance of the sectors' counts over which a spent margin rebalances (a whole re-cut) instead of
+// migrating.
+constexpr double kRebalanceTolerance = 0.05;
+
 // One rank's part of the charge: its World, exchange plan and owned particles' positions at the cut.
 struct Domain {
   std::unique_ptr<World> world;
@@ -75,6 +83,23 @@ void save_domain(Domain& d, core::BinaryWriter& w);
 Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::function<void(World&)>& setup,
                    int ranks, int rank);
 
+// Per rank q, how many of d's owned particles lie in q's sector now (summed over the ranks: the counts a migration
+// leaves).
+std::vector<long> owner_counts(const Domain& d);
+// Whether sectors of these counts are out of balance: the largest above (1 + tolerance) x the mean.
+bool needs_rebalance(const std::vector<long>& counts, double tolerance);
+// Per rank q (1: yes), whether q needs d's part for a migration: one of d's owned particles lies in q's sector now
+// or within `reach` of it (never d's own rank).
+std::vector<char> migration_peers(const Domain& d, double reach);
+// A rank's new part after its particles moved, the sectors of `mine` (its current part) kept: cut from the union of
+// the owned particles of parts (in rank order: its own World and those of the peers whose migration_peers name it,
+// with their ownership masks), World::assemble leaving out the bonds and pairs that reach beyond them. Throws
+// std::runtime_error naming a particle of the new part that lost a bond or contact that way (a peer that should
+// have sent did not).
+Domain migrate_domain(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                      const Domain& mine, const WorldParams& params, const std::function<void(World&)>& setup,
+                      double reach);
+
 // The whole charge put back together from the domains' Worlds (World::assemble of their owned particles), saved as
 // a checkpoint for cut_charge: how the charge is cut anew once the margin is spent (particles change owner, sectors
 // are rebalanced). setup: as for cut_charge.
@@ -98,10 +123,14 @@ class LocalDomains {
   double margin() const { return domains_.at(0).margin; }
   // Largest displacement of an owned particle since the cut (m).
   double max_displacement() const;
-  // n steps of every rank with the ghost exchange; the charge is cut anew before a step that the layout no longer
-  // covers.
+  // n steps of every rank with the ghost exchange; before a step that the layout no longer covers the particles
+  // migrate, or the charge is cut anew when the sectors are out of balance.
   void step(long n = 1);
-  int recuts() const { return recuts_; }  // how often the charge was cut anew
+  int recuts() const { return recuts_; }          // how often the charge was cut anew (rebalanced, or edited)
+  int migrations() const { return migrations_; }  // how often the particles migrated, the sectors kept
+  // Relative imbalance of the sectors' counts over which the charge is cut anew instead of migrating (default 0.05;
+  // 0: rebalance at every re-cut; a large value: always migrate).
+  void set_rebalance_tolerance(double t) { rebalance_tolerance_ = t; }
   // Between two steps: the charge put together, changed by `edit` in one World (particles added or removed, as a
   // coupled run's feed, discharge and crushing do; new particles take the whole charge's next ids), and cut anew.
   void edit(const std::function<void(World&)>& edit);
@@ -113,10 +142,11 @@ class LocalDomains {
  private:
   void exchange();
   void recut(const std::function<void(World&)>& edit = nullptr);
+  void migrate();
   WorldParams params_;
   std::function<void(World&)> setup_;
-  double reach_ = 0;
-  int recuts_ = 0;
+  double reach_ = 0, rebalance_tolerance_ = kRebalanceTolerance;
+  int recuts_ = 0, migrations_ = 0;
   std::vector<Domain> domains_;
 };
 

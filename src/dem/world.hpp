@@ -185,7 +185,11 @@ class World {
   // order). As after load_state, the next step rebuilds the neighbour list. Throws std::invalid_argument on a mask
   // of the wrong size, an id owned twice, a bond or pair whose second particle is not in its part, other walls or
   // interactions, or an interaction that cannot be put together.
-  void assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned);
+  // dangling (a rank's migration, ghost_domains.hpp: the parts are its own and its peers', not the whole charge): an
+  // intact bond or kept pair whose second particle no part owns is dropped, and its first particle's id appended to
+  // *dangling, instead of the throw.
+  void assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                std::vector<uint64_t>* dangling = nullptr);
   // Marks the ghosts of a domain decomposition (ghost_domains.hpp): ghost[i] != 0 for a copy of a particle another
   // rank owns, whose forces are not used. What concerns ghosts alone is left out: pairs of two ghosts are not listed,
   // bonds between two ghosts are dropped (their owners keep them), interactions skip ghosts (Interaction::set_ghosts).

@@ -13,7 +13,8 @@
 
 namespace dem {
 
-void World::assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned) {
+void World::assemble(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
+                     std::vector<uint64_t>* dangling) {
   if (parts.empty() || parts.size() != owned.size())
     throw std::invalid_argument("World::assemble: " + std::to_string(parts.size()) + " parts and " +
                                 std::to_string(owned.size()) + " ownership masks (one per part, at least one)");
@@ -44,12 +45,13 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
     at[std::get<0>(order[a])] = static_cast<uint32_t>(a);
   }
   const std::size_t n = order.size();
-  auto index = [&](const World& w, uint32_t i, const char* what) {
+  // index in the assembled World; -1 (with `dangling`) for a particle no part owns
+  auto index = [&](const World& w, uint32_t i, const char* what) -> long {
     const auto it = at.find(w.p_.id[i]);
-    if (it == at.end())
-      throw std::invalid_argument(std::string("World::assemble: a ") + what + " reaches particle id " +
-                                  std::to_string(w.p_.id[i]) + ", which no part owns");
-    return it->second;
+    if (it != at.end()) return it->second;
+    if (dangling) return -1;
+    throw std::invalid_argument(std::string("World::assemble: a ") + what + " reaches particle id " +
+                                std::to_string(w.p_.id[i]) + ", which no part owns");
   };
 
   Particles np;
@@ -81,9 +83,14 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
     const World& w = *parts[k];
     for (const Bond& b : w.bonds_) {
       if (!owned[k][b.i]) continue;
+      const long ci = index(w, b.i, "bond"), cj = index(w, b.j, "bond");
+      if (cj < 0) {  // its second particle is in no part: dropped, its first one named
+        if (b.alive) dangling->push_back(w.p_.id[b.i]);
+        continue;
+      }
       Bond c = b;
-      c.i = index(w, b.i, "bond");
-      c.j = index(w, b.j, "bond");
+      c.i = static_cast<uint32_t>(ci);
+      c.j = static_cast<uint32_t>(cj);
       bonds.push_back(c);
     }
     for (std::size_t q = 0; q < w.npairs_; ++q) {
@@ -91,7 +98,12 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
       const auto& h = w.hist_[q];
       static const std::array<double, 3> zero{{0.0, 0.0, 0.0}};  // any bit set: -0.0 is kept too, as save_state does
       if (!owned[k][i] || !(w.touch_[q] || std::memcmp(h.data(), zero.data(), sizeof zero) != 0)) continue;
-      uint32_t a = index(w, i, "neighbour pair"), b = index(w, j, "neighbour pair");
+      const long la = index(w, i, "neighbour pair"), lb = index(w, j, "neighbour pair");
+      if (lb < 0) {
+        dangling->push_back(w.p_.id[i]);
+        continue;
+      }
+      const auto a = static_cast<uint32_t>(la), b = static_cast<uint32_t>(lb);
       pairs.emplace_back(std::min(a, b), std::max(a, b), h, w.touch_[q]);
     }
     for (const BondBreak& e : w.breaks_) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -155,8 +156,16 @@ void MpiDomain::step(long n) {
   for (long s = 0; s < n; ++s) {
     if (max_displacement() > d_.margin) {
       const auto t0 = clk::now();
-      recut();
-      recut_s_ += std::chrono::duration<double>(clk::now() - t0).count();
+      const std::vector<long> mine = dem::owner_counts(d_);
+      std::vector<long> counts(mine.size());
+      MPI_Allreduce(mine.data(), counts.data(), static_cast<int>(mine.size()), MPI_LONG, MPI_SUM, comm_);
+      if (dem::needs_rebalance(counts, rebalance_tolerance_)) {
+        recut();
+        recut_s_ += std::chrono::duration<double>(clk::now() - t0).count();
+      } else {
+        migrate();
+        migrate_s_ += std::chrono::duration<double>(clk::now() - t0).count();
+      }
     }
     d_.world->step_begin();
     const auto t0 = clk::now();
@@ -211,6 +220,72 @@ void MpiDomain::recut(const std::function<void(dem::World&)>& edit) {
   whole = broadcast_bytes(comm_, whole);
   d_ = dem::cut_charge(whole, params_, setup_, size_, rank_, reach_);
   ++recuts_;
+}
+
+// Each rank's World and ownership mask to the peers that need them (dem::migration_peers), point to point; each rank
+// cuts its new part from its own and the received parts, in rank order, as LocalDomains does.
+void MpiDomain::migrate() {
+  const std::vector<char> to = dem::migration_peers(d_, reach_);
+  std::string mine;
+  if (std::find(to.begin(), to.end(), 1) != to.end()) {
+    std::ostringstream os;
+    core::BinaryWriter w(os);
+    d_.world->save_state(w);
+    w.put_vec(d_.plan.owned);
+    mine = os.str();
+  }
+  std::vector<unsigned long long> out(static_cast<std::size_t>(size_), 0), in(static_cast<std::size_t>(size_), 0);
+  for (int q = 0; q < size_; ++q) out[q] = to[q] ? mine.size() : 0;
+  MPI_Alltoall(out.data(), 1, MPI_UNSIGNED_LONG_LONG, in.data(), 1, MPI_UNSIGNED_LONG_LONG, comm_);
+  const unsigned long long limit = static_cast<unsigned long long>(std::numeric_limits<int>::max());
+  int too_big = mine.size() > limit ? 1 : 0, any = 0;
+  MPI_Allreduce(&too_big, &any, 1, MPI_INT, MPI_MAX, comm_);
+  if (any)
+    throw std::runtime_error("migration: a rank's part is over 2 GiB (" + std::to_string(mine.size()) +
+                             " bytes here); run on more ranks");
+  std::vector<std::string> got(static_cast<std::size_t>(size_));
+  std::vector<MPI_Request> req;
+  for (int q = 0; q < size_; ++q) {
+    if (!in[q]) continue;
+    got[q].resize(in[q]);
+    req.emplace_back();
+    MPI_Irecv(&got[q][0], static_cast<int>(in[q]), MPI_CHAR, q, 1, comm_, &req.back());
+  }
+  for (int q = 0; q < size_; ++q) {
+    if (!out[q]) continue;
+    req.emplace_back();
+    MPI_Isend(mine.data(), static_cast<int>(mine.size()), MPI_CHAR, q, 1, comm_, &req.back());
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  std::string err;
+  try {
+    std::vector<std::unique_ptr<dem::World>> peers;
+    std::vector<const dem::World*> parts;
+    std::vector<std::vector<char>> owned;
+    for (int q = 0; q < size_; ++q) {
+      if (q == rank_) {
+        parts.push_back(d_.world.get()), owned.push_back(d_.plan.owned);
+        continue;
+      }
+      if (!in[q]) continue;
+      peers.push_back(std::make_unique<dem::World>(params_));
+      if (setup_) setup_(*peers.back());
+      std::istringstream is(got[q]);
+      core::BinaryReader rd(is, "rank " + std::to_string(q) + "'s part");
+      peers.back()->load_state(rd);
+      owned.emplace_back();
+      rd.get_vec(owned.back());
+      parts.push_back(peers.back().get());
+    }
+    d_ = dem::migrate_domain(parts, owned, d_, params_, setup_, reach_);
+  } catch (const std::exception& e) {
+    err = e.what();
+  }
+  int bad = err.empty() ? 0 : 1, failed = 0;
+  MPI_Allreduce(&bad, &failed, 1, MPI_INT, MPI_MAX, comm_);
+  if (!err.empty()) throw std::runtime_error(err);
+  if (failed) throw std::runtime_error("migration: another rank failed (its message names why)");
+  ++migrations_;
 }
 
 void MpiDomain::gather_owned(std::vector<uint64_t>& ids, std::vector<double>& state) const {

@@ -7,8 +7,9 @@
 // ghosts and takes its ghosts' from their owners (non-blocking, one message per peer and direction), then
 // World::step_end(). A run on P ranks equals LocalDomains with P ranks in one process bit for bit (the same Worlds
 // take the same steps). Before each step the ranks agree (MPI_Allreduce) whether a particle has left the layout's
-// margin; then the charge is cut anew through rank 0 (every rank's World to it, the whole charge assembled and
-// broadcast: O(N) traffic per re-cut; sending only the particles that cross is the scalable form, not yet).
+// margin; then the particles migrate point to point, the sectors kept (each rank's part to the peers that need it:
+// O(N / P) per rank), or, when the sectors' counts are out of balance and at edits, the charge is cut anew through
+// rank 0 (every rank's World to it, the whole charge assembled and broadcast: O(N) per rank).
 #include <mpi.h>
 
 #include <cstdint>
@@ -53,15 +54,19 @@ class MpiDomain {
   double margin() const { return d_.margin; }
   // Collective: n steps with the ghost exchange, the charge cut anew when the margin is spent.
   void step(long n = 1);
-  int recuts() const { return recuts_; }
+  int recuts() const { return recuts_; }          // whole re-cuts (rebalanced, or edited)
+  int migrations() const { return migrations_; }  // migrations, the sectors kept (this process's, not checkpointed)
+  // As LocalDomains::set_rebalance_tolerance; the same on every rank.
+  void set_rebalance_tolerance(double t) { rebalance_tolerance_ = t; }
   // Collective, between two steps: the charge put together on rank 0, changed there by `edit` (particles added or
   // removed: feed, discharge, crushing; new particles take the whole charge's next ids; edit runs on rank 0 only),
   // and cut anew.
   void edit(const std::function<void(dem::World&)>& edit);
-  // Wall seconds this rank spent since construction in the ghost exchange (packing, MPI and waiting for the peers)
-  // and in re-cuts, for the benchmark.
+  // Wall seconds this rank spent since construction in the ghost exchange (packing, MPI and waiting for the peers),
+  // in re-cuts and in migrations (with the count that chose between them), for the benchmark.
   double exchange_seconds() const { return exchange_s_; }
   double recut_seconds() const { return recut_s_; }
+  double migrate_seconds() const { return migrate_s_; }
   std::size_t ghosts() const;  // this rank's ghost count
   // Collective: the largest displacement of any rank's owned particle since the cut (m).
   double max_displacement() const;
@@ -74,13 +79,14 @@ class MpiDomain {
   MpiDomain(MPI_Comm comm, const dem::WorldParams& params, const std::function<void(dem::World&)>& setup);
   void exchange();
   void recut(const std::function<void(dem::World&)>& edit = nullptr);
+  void migrate();
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   dem::WorldParams params_;
   std::function<void(dem::World&)> setup_;
-  double reach_ = 0;
-  int recuts_ = 0;
-  double exchange_s_ = 0, recut_s_ = 0;
+  double reach_ = 0, rebalance_tolerance_ = dem::kRebalanceTolerance;
+  int recuts_ = 0, migrations_ = 0;
+  double exchange_s_ = 0, recut_s_ = 0, migrate_s_ = 0;
   dem::Domain d_;
   std::vector<std::vector<double>> out_, in_;  // per peer: send and receive buffers
 };

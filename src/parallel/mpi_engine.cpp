@@ -38,9 +38,12 @@ std::string MpiEngine::gather(const std::string& mine) {
   return std::string(all.begin(), all.end());
 }
 
-dem::EngineFactory mpi_engine(MPI_Comm comm, double reach) {
-  return [comm, reach](const std::string& ckpt, const dem::WorldParams& wp, const std::function<void(dem::World&)>& setup) {
-    return std::make_unique<MpiEngine>(comm, ckpt, wp, setup, reach);
+dem::EngineFactory mpi_engine(MPI_Comm comm, double reach, double rebalance_tolerance) {
+  return [comm, reach, rebalance_tolerance](const std::string& ckpt, const dem::WorldParams& wp,
+                                            const std::function<void(dem::World&)>& setup) {
+    auto e = std::make_unique<MpiEngine>(comm, ckpt, wp, setup, reach);
+    e->set_rebalance_tolerance(rebalance_tolerance);
+    return e;
   };
 }
 

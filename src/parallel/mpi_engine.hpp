@@ -31,14 +31,17 @@ class MpiEngine : public dem::DomainEngine {
   std::string gather(const std::string& mine) override;
   std::string broadcast(const std::string& on_root) override { return broadcast_bytes(comm_, on_root); }
   int recuts() const override { return d_.recuts(); }
+  int migrations() const override { return d_.migrations(); }
   const MpiDomain& domain() const { return d_; }
+  void set_rebalance_tolerance(double t) { d_.set_rebalance_tolerance(t); }
 
  private:
   MPI_Comm comm_;
   MpiDomain d_;
 };
 
-// The factory coupling::ChamberDem::decompose takes: an MpiEngine on comm with the given reach (m).
-dem::EngineFactory mpi_engine(MPI_Comm comm, double reach);
+// The factory coupling::ChamberDem::decompose takes: an MpiEngine on comm with the given reach (m) and rebalance
+// tolerance (dem::LocalDomains::set_rebalance_tolerance).
+dem::EngineFactory mpi_engine(MPI_Comm comm, double reach, double rebalance_tolerance = dem::kRebalanceTolerance);
 
 }  // namespace parallel

@@ -9,8 +9,10 @@
 // --ranks runs it; one rank: the whole World); --steps coupling steps (default 2) after --warmup (default 1, the
 // pre-fill's); rank 0 prints the wall time per simulated second.
 // Usage: mpirun -np P dem_mpi_bench [--case granular_pressed|bonded_hex|crusher] [--config FILE] [--steps S]
-//                                   [--warmup W] [--threads T]
-// Prints one line per rank on stderr (owned, ghosts, wall, exchange and re-cut seconds) and rank 0's case line on
+//                                   [--warmup W] [--threads T] [--rebalance-tolerance X]
+// --rebalance-tolerance: the sectors' imbalance over which a spent margin cuts the charge anew through rank 0 instead
+// of migrating (default 0.05; -1: always through rank 0, as before migrations).
+// Prints one line per rank on stderr (owned, ghosts, wall, exchange, re-cut and migration seconds) and rank 0's case line on
 // stdout: particle-steps per second of the whole charge, the exchange's share of the slowest rank's wall time.
 #include <mpi.h>
 
@@ -53,7 +55,7 @@ Case case_named(const std::string& name) {
   throw std::invalid_argument("--case " + name + ": accepted granular_pressed, bonded_hex, crusher");
 }
 
-int crusher(const std::string& config, long steps, long warmup, int threads) {
+int crusher(const std::string& config, long steps, long warmup, int threads, double tolerance) {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
@@ -71,7 +73,7 @@ int crusher(const std::string& config, long steps, long warmup, int threads) {
   g.mantle_com_z = mech.floating_cone.com_z_m;
   g.concave_com_z = mech.fixed_cone.com_z_m;
   coupling::ChamberDem dem(cp);
-  if (size > 1) dem.decompose(parallel::mpi_engine(MPI_COMM_WORLD, 3.0 * dem.largest_sphere_radius()));
+  if (size > 1) dem.decompose(parallel::mpi_engine(MPI_COMM_WORLD, 3.0 * dem.largest_sphere_radius(), tolerance));
   long k = 0;
   for (; k < std::max(1L, warmup); ++k) dem.advance(g.mantle(k * dtc), g.concave(), dtc);  // the first pre-fills
   MPI_Barrier(MPI_COMM_WORLD);
@@ -89,12 +91,16 @@ int crusher(const std::string& config, long steps, long warmup, int threads) {
   MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const auto* own = dem.engine().owned(0);  // null: one World, no ghosts
   const std::size_t ghosts = own ? std::count(own->begin(), own->end(), 0) : 0;
-  std::fprintf(stderr, "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f\n",
-               rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4]);
+  const auto* mpi = dynamic_cast<const parallel::MpiEngine*>(&dem.engine());
+  std::fprintf(stderr, "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f "
+               "recuts %d recut_s %.2f migrations %d migrate_s %.2f\n",
+               rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4], mpi ? mpi->recuts() : 0,
+               mpi ? mpi->domain().recut_seconds() : 0.0, mpi ? mpi->migrations() : 0,
+               mpi ? mpi->domain().migrate_seconds() : 0.0);
   if (rank == 0) {
     std::printf("case crusher ranks %d threads %d particles %llu coupling_steps %ld wall_s %.3f wall_h_per_sim_s %.2f "
-                "recuts %d\n", size, threads, all, steps, slowest, slowest / (steps * dtc) / 3600.0,
-                size > 1 ? dem.engine().recuts() : 0);
+                "recuts %d migrations %d\n", size, threads, all, steps, slowest, slowest / (steps * dtc) / 3600.0,
+                size > 1 ? dem.engine().recuts() : 0, size > 1 ? dem.engine().migrations() : 0);
     std::fflush(stdout);
   }
   return 0;
@@ -107,6 +113,7 @@ int run(int argc, char** argv) {
   std::string name = "granular_pressed", config;
   long steps = -1, warmup = -1;
   int threads = 1;
+  double tolerance = dem::kRebalanceTolerance;
   for (core::CliArgs a(argc, argv); a.next();) {
     const std::string f = a.flag();
     if (f == "--case") name = a.value();
@@ -114,9 +121,11 @@ int run(int argc, char** argv) {
     else if (f == "--warmup") warmup = a.integer(0, 100000000);
     else if (f == "--threads") threads = static_cast<int>(a.integer(1, 1024));
     else if (f == "--config") config = a.value();
-    else throw std::invalid_argument("unknown option " + f + " (accepted: --case, --config, --steps, --warmup, --threads)");
+    else if (f == "--rebalance-tolerance") tolerance = a.number(-1.0, 1e9);
+    else throw std::invalid_argument("unknown option " + f +
+                                     " (accepted: --case, --config, --steps, --warmup, --threads, --rebalance-tolerance)");
   }
-  if (name == "crusher") return crusher(config, steps > 0 ? steps : 2, warmup >= 0 ? warmup : 1, threads);
+  if (name == "crusher") return crusher(config, steps > 0 ? steps : 2, warmup >= 0 ? warmup : 1, threads, tolerance);
   if (steps < 0) steps = 2000;
   const Case c = case_named(name);
   if (warmup < 0) warmup = c.warmup;
@@ -134,6 +143,7 @@ int run(int argc, char** argv) {
   }
   ckpt = parallel::broadcast_bytes(MPI_COMM_WORLD, ckpt);
   parallel::MpiDomain d(MPI_COMM_WORLD, ckpt, wp, c.walls, c.reach);
+  d.set_rebalance_tolerance(tolerance);
   MPI_Barrier(MPI_COMM_WORLD);
   const auto t0 = std::chrono::steady_clock::now();
   d.step(steps);
@@ -142,9 +152,9 @@ int run(int argc, char** argv) {
   for (char o : d.plan().owned) owned += o ? 1 : 0;
   std::fprintf(stderr,
                "rank %d of %d: owned %zu ghosts %zu neighbour_pairs %zu bonds %zu wall_s %.3f exchange_s %.3f recuts %d "
-               "recut_s %.3f\n",
+               "recut_s %.3f migrations %d migrate_s %.3f\n",
                rank, size, owned, d.ghosts(), d.world().n_pairs(), d.world().n_bonds_intact(), wall, d.exchange_seconds(),
-               d.recuts(), d.recut_seconds());
+               d.recuts(), d.recut_seconds(), d.migrations(), d.migrate_seconds());
   double slowest = 0, exch = 0;
   MPI_Reduce(&wall, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   const double mine = d.exchange_seconds();

@@ -75,35 +75,81 @@ TEST(GhostDomains, TwoAndThreeRanksStepLikeTheWholeCharge) {
 
 TEST(GhostDomains, CutsTheChargeAnewWhenTheMarginIsSpent) {
   // A reach 0.2 mm over the contact distance: a margin of 0.1 mm, spent 8 times in 600 steps (0.9 ms); particles
-  // change owner with their state, bonds, contact histories and breaks. Against the whole World the round-off grows
+  // change owner with their state, bonds, contact histories and breaks, by migration (the sectors kept: default
+  // tolerance) or by whole re-cuts (tolerance -1: rebalanced every time). Against the whole World the round-off grows
   // as the charge's chaos makes it, with or without re-cuts alike (2 ranks, reach 0.2 or 4 mm over the contact
   // distance: 2.5e-17, 1.9e-15, 4.2e-13, 2.2e-9, 7e-7 m after 300 ... 1500 steps; by then the spins differ by
   // ~15 rad/s and the runs can only be compared as statistics). Compared at 600 steps; one rank bit for bit.
   constexpr long kLong = 600;
   const Reference ref = reference(kLong);
-  for (int ranks : {1, 2, 3}) {
-    SCOPED_TRACE("ranks " + std::to_string(ranks));
-    dem::LocalDomains d(state(), params(), walls, ranks, 2e-3 + 0.2e-3);
-    EXPECT_NEAR(d.margin(), 0.1e-3, 1e-6);  // the largest sphere is within 2 um of 1 mm
-    d.step(kLong);
-    EXPECT_GE(d.recuts(), 5);
-    std::vector<uint64_t> ids;
-    std::vector<double> x;
-    d.owned_state(ids, x);
-    ASSERT_EQ(ids, ref.ids);  // every particle owned once after the re-cuts
-    const double worst = largest_position_difference(x, ref.x);
-    EXPECT_LT(worst, 1e-13) << "largest position difference to the whole World (m)";
-    if (ranks == 1) {
-      EXPECT_EQ(0, std::memcmp(x.data(), ref.x.data(), x.size() * sizeof(double)));
+  for (double tolerance : {-1.0, dem::kRebalanceTolerance}) {
+    for (int ranks : {1, 2, 3}) {
+      SCOPED_TRACE("ranks " + std::to_string(ranks) + ", tolerance " + std::to_string(tolerance));
+      dem::LocalDomains d(state(), params(), walls, ranks, 2e-3 + 0.2e-3);
+      d.set_rebalance_tolerance(tolerance);
+      EXPECT_NEAR(d.margin(), 0.1e-3, 1e-6);  // the largest sphere is within 2 um of 1 mm
+      d.step(kLong);
+      if (tolerance < 0) {
+        EXPECT_GE(d.recuts(), 5);
+        EXPECT_EQ(d.migrations(), 0);
+      } else {
+        EXPECT_GE(d.migrations(), 5);  // the charge hardly moves in azimuth: its sectors stay balanced
+      }
+      std::vector<uint64_t> ids;
+      std::vector<double> x;
+      d.owned_state(ids, x);
+      ASSERT_EQ(ids, ref.ids);  // every particle owned once after the re-cuts
+      const double worst = largest_position_difference(x, ref.x);
+      EXPECT_LT(worst, 1e-13) << "largest position difference to the whole World (m)";
+      if (ranks == 1) {
+        EXPECT_EQ(0, std::memcmp(x.data(), ref.x.data(), x.size() * sizeof(double)));
+      }
+      EXPECT_EQ(breaks_after_cut(d.breaks()), ref.breaks);
+      std::vector<std::pair<uint64_t, uint64_t>> bonds;
+      for (int r = 0; r < ranks; ++r) add_intact_bonds(d.world(r), d.plan(r).owned, bonds);
+      std::sort(bonds.begin(), bonds.end());
+      EXPECT_EQ(bonds, ref.bonds);
+      std::printf("ranks %d, %ld steps: %d re-cuts, %d migrations, largest position difference %.3g m, %zu breaks, "
+                  "%zu bonds\n",
+                  ranks, kLong, d.recuts(), d.migrations(), worst, ref.breaks.size(), ref.bonds.size());
     }
-    EXPECT_EQ(breaks_after_cut(d.breaks()), ref.breaks);
-    std::vector<std::pair<uint64_t, uint64_t>> bonds;
-    for (int r = 0; r < ranks; ++r) add_intact_bonds(d.world(r), d.plan(r).owned, bonds);
-    std::sort(bonds.begin(), bonds.end());
-    EXPECT_EQ(bonds, ref.bonds);
-    std::printf("ranks %d, %ld steps: %d re-cuts, largest position difference %.3g m, %zu breaks, %zu bonds\n",
-                ranks, kLong, d.recuts(), worst, ref.breaks.size(), ref.bonds.size());
   }
+}
+
+TEST(GhostDomains, AMigrationWithoutAPeerThatShouldSendIsRefused) {
+  // A bonded pair across the boundary of 2 sectors: rank 0 owns one end, rank 1 the other. Rank 0's migration from
+  // its own part alone would lose the bond of the particle it owns: refused, naming it; with rank 1's part it keeps
+  // the bond. migration_peers names the rank that sees the particle as a ghost.
+  dem::World w(params());
+  const double a[3] = {0.02, -0.9e-3, 0}, b[3] = {0.02, 0.9e-3, 0};  // equal-count sectors: bounds at azimuth 0, pi
+  const std::size_t i = w.add_particle(a, 1e-3, 0), j = w.add_particle(b, 1e-3, 0);
+  dem::BondParams bp;
+  bp.kn = 100e9, bp.kt = 40e9, bp.sigma_c = 1e6, bp.tau_c = 1e6;
+  ASSERT_EQ(w.bond_pairs({{i, j}}, bp), 1u);
+  std::ostringstream os;
+  core::BinaryWriter bw(os);
+  w.save_state(bw);
+  const double reach = 2e-3 + 0.2e-3;
+  dem::Domain d0 = dem::cut_charge(os.str(), params(), nullptr, 2, 0, reach);
+  dem::Domain d1 = dem::cut_charge(os.str(), params(), nullptr, 2, 1, reach);
+  const long a0 = d0.world->index_of(w.particles().id[i]), b0 = d0.world->index_of(w.particles().id[j]);
+  ASSERT_GE(a0, 0);
+  ASSERT_GE(b0, 0);
+  ASSERT_NE(d0.plan.owned[a0], d0.plan.owned[b0]) << "the pair must straddle the boundary";
+  const uint64_t mine = w.particles().id[d0.plan.owned[a0] ? i : j];
+  EXPECT_EQ(dem::migration_peers(d0, reach), (std::vector<char>{0, 1}));
+  EXPECT_EQ(dem::migration_peers(d1, reach), (std::vector<char>{1, 0}));
+  try {
+    dem::migrate_domain({d0.world.get()}, {d0.plan.owned}, d0, params(), nullptr, reach);
+    ADD_FAILURE() << "a migration without its peer was taken";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("particle " + std::to_string(mine) + " lost a bond"), std::string::npos)
+        << e.what();
+  }
+  const dem::Domain n0 =
+      dem::migrate_domain({d0.world.get(), d1.world.get()}, {d0.plan.owned, d1.plan.owned}, d0, params(), nullptr, reach);
+  EXPECT_EQ(n0.world->n_bonds_intact(), 1u);
+  EXPECT_EQ(n0.sectors.bounds(), d0.sectors.bounds());
 }
 
 TEST(GhostDomains, ABondedPairThatCrossesASectorBoundaryKeepsItsBond) {
@@ -128,6 +174,7 @@ TEST(GhostDomains, ABondedPairThatCrossesASectorBoundaryKeepsItsBond) {
   w.save_state(bw);
   const std::string ckpt = os.str();
   dem::LocalDomains d(ckpt, wp, nullptr, 3, 2e-3 + 0.2e-3);
+  d.set_rebalance_tolerance(1e9);  // the flight unbalances the sectors (21 + 21 + 20 particles): migrate regardless
   std::set<int> owners;
   for (int k = 0; k < 27; ++k) {  // 2700 steps of 1.5 us: 20 mm
     d.step(100);
@@ -138,7 +185,8 @@ TEST(GhostDomains, ABondedPairThatCrossesASectorBoundaryKeepsItsBond) {
     }
   }
   EXPECT_GE(owners.size(), 2u) << "the pair never changed owner";
-  EXPECT_GT(d.recuts(), 10);
+  EXPECT_GT(d.migrations(), 10);
+  EXPECT_EQ(d.recuts(), 0);
   std::vector<std::pair<uint64_t, uint64_t>> bonds;
   for (int r = 0; r < 3; ++r) add_intact_bonds(d.world(r), d.plan(r).owned, bonds);
   ASSERT_EQ(bonds.size(), 1u);
@@ -254,10 +302,10 @@ TEST(GhostDomains, ALinerMeshGetsTheWholeChargesWrenchSummedOverTheRanks) {
       EXPECT_LT((f - ref.plate.force).norm(), 1e-9 * ref.plate.force.norm());
       EXPECT_LT((t - ref.plate.torque).norm(), 1e-9 * ref.plate.force.norm() * kHalf);
       if (reach < kReach) {
-        EXPECT_GE(d.recuts(), 5);
+        EXPECT_GE(d.recuts() + d.migrations(), 5);
       }
-      std::printf("plate, ranks %d, %d re-cuts: position difference %.3g m, force %.6g N (whole %.6g N), difference %.3g N\n",
-                  ranks, d.recuts(), worst, f.z(), ref.plate.force.z(), (f - ref.plate.force).norm());
+      std::printf("plate, ranks %d, %d re-cuts, %d migrations: position difference %.3g m, force %.6g N (whole %.6g N), difference %.3g N\n",
+                  ranks, d.recuts(), d.migrations(), worst, f.z(), ref.plate.force.z(), (f - ref.plate.force).norm());
     }
   }
 }

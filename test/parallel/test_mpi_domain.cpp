@@ -2,7 +2,7 @@
 // (oversubscribed on 2 cores). The pressed charge (test/common/pressed_charge.hpp) stepped on the ranks equals the
 // same cut in one process (LocalDomains) bit for bit, and the whole charge in one World bit for bit on one rank and
 // to round-off on more (the bound and its reason: test/dem/test_ghost_domains.cpp); every particle is owned once,
-// the breaks are the whole World's; re-cuts through rank 0 give the one process's re-cuts bit for bit; a run resumed
+// the breaks are the whole World's; migrations and re-cuts through rank 0 give the one process's bit for bit; a run resumed
 // from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's;
 // particles added and removed between steps (on rank 0) reach their owners.
 #include <gtest/gtest.h>
@@ -69,26 +69,33 @@ TEST(MpiDomain, StepsLikeTheSameCutInOneProcessAndTheWholeCharge) {
 }
 
 TEST(MpiDomain, CutsTheChargeAnewLikeOneProcess) {
-  // a margin of 0.1 mm, spent 8 times in 600 steps: each re-cut goes through rank 0 (test_ghost_domains.cpp checks
-  // the re-cut itself against the whole World)
+  // a margin of 0.1 mm, spent 8 times in 600 steps: the particles migrate point to point (default tolerance), or the
+  // charge is cut anew through rank 0 (tolerance -1), as in one process (test_ghost_domains.cpp checks both against
+  // the whole World)
   const double reach = 2e-3 + 0.2e-3;
-  parallel::MpiDomain d(MPI_COMM_WORLD, state(), params(), walls, reach);
-  d.step(600);
-  std::vector<uint64_t> ids;
-  std::vector<double> x;
-  d.gather_owned(ids, x);
-  const auto breaks = d.gather_breaks();
-  if (!rank_is_root()) return;
-  dem::LocalDomains local(state(), params(), walls, d.ranks(), reach);
-  local.step(600);
-  EXPECT_EQ(d.recuts(), local.recuts());
-  EXPECT_GE(d.recuts(), 5);
-  expect_as_in_one_process(ids, x, local);
-  EXPECT_EQ(breaks_after_cut(breaks), breaks_after_cut(local.breaks()));
+  for (double tolerance : {-1.0, dem::kRebalanceTolerance}) {
+    parallel::MpiDomain d(MPI_COMM_WORLD, state(), params(), walls, reach);
+    d.set_rebalance_tolerance(tolerance);
+    d.step(600);
+    std::vector<uint64_t> ids;
+    std::vector<double> x;
+    d.gather_owned(ids, x);
+    const auto breaks = d.gather_breaks();
+    if (!rank_is_root()) continue;
+    SCOPED_TRACE("tolerance " + std::to_string(tolerance));
+    dem::LocalDomains local(state(), params(), walls, d.ranks(), reach);
+    local.set_rebalance_tolerance(tolerance);
+    local.step(600);
+    EXPECT_EQ(d.recuts(), local.recuts());
+    EXPECT_EQ(d.migrations(), local.migrations());
+    EXPECT_GE(tolerance < 0 ? d.recuts() : d.migrations(), 5);
+    expect_as_in_one_process(ids, x, local);
+    EXPECT_EQ(breaks_after_cut(breaks), breaks_after_cut(local.breaks()));
+  }
 }
 
 TEST(MpiDomain, ResumesFromItsCheckpointBitForBit) {
-  // 200 steps, a checkpoint per rank, 400 more (re-cuts before and after it); a run resumed from the files takes the
+  // 200 steps, a checkpoint per rank, 400 more (migrations before and after it); a run resumed from the files takes the
   // same 400 steps
   std::string dir;
   if (rank_is_root()) {
@@ -101,7 +108,7 @@ TEST(MpiDomain, ResumesFromItsCheckpointBitForBit) {
   parallel::MpiDomain d(MPI_COMM_WORLD, state(), params(), walls, 2e-3 + 0.2e-3);
   d.step(200);
   d.save(prefix);
-  const int recuts_at_save = d.recuts();
+  const int recuts_at_save = d.recuts(), migrations_at_save = d.migrations();
   d.step(400);
   std::vector<uint64_t> ids, rids;
   std::vector<double> x, rx;
@@ -110,7 +117,8 @@ TEST(MpiDomain, ResumesFromItsCheckpointBitForBit) {
   EXPECT_EQ(r.recuts(), recuts_at_save);
   r.step(400);
   EXPECT_EQ(r.recuts(), d.recuts());
-  EXPECT_GT(d.recuts(), recuts_at_save);
+  EXPECT_EQ(r.migrations(), d.migrations() - migrations_at_save);  // a process's own count
+  EXPECT_GT(r.migrations(), 0);
   r.gather_owned(rids, rx);
   // a prefix no run wrote: every rank refuses, naming its file
   int refused = 0;
