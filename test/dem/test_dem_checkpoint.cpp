@@ -28,6 +28,8 @@ using Eigen::Vector3d;
 constexpr double kV = 0.3;      // belt speed along x, m/s
 constexpr double kOmega = 2.0;  // belt spin about z, rad/s
 constexpr double kBox = 0.03;   // side walls at 0 and kBox in x and y, m
+constexpr std::size_t kSceneFileBytes = 264313;  // TheFileKeepsItsBytes
+constexpr uint64_t kSceneFileHash = 0x7dd225a5e918fb59ull;
 
 // Square belt in z = 0 of the body frame, [-0.02, 0.05]^2, cut into a 14 x 14 grid of squares (392 triangles),
 // so sliding contacts cross edges and vertices.
@@ -295,6 +297,18 @@ TEST(DemCheckpoint, RestoredWorldContinuesBitwiseOnOneThread) {
   std::printf("checkpoint: %zu bytes for %zu particles (%.0f bytes/particle), %zu intact bonds, %zu mesh contacts\n",
               a.file.size(), a.particles, double(a.file.size()) / a.particles, a.bonds_at_save,
               a.mesh_contacts_at_save);
+}
+
+TEST(DemCheckpoint, TheFileKeepsItsBytes) {
+  // A checkpoint written by an earlier build must load in this one: the scene's file (walls and their histories,
+  // bonds, pairs, mesh contacts) keeps the size and FNV-1a hash measured on 2026-12-05. A change to the format must
+  // be deliberate (a new version in world_checkpoint.cpp that still reads this one), and then these figures with it.
+  const RunA a = run_a(1);
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : a.file) h = (h ^ c) * 1099511628211ull;
+  std::printf("checkpoint: %zu bytes, FNV-1a %016llx\n", a.file.size(), static_cast<unsigned long long>(h));
+  EXPECT_EQ(a.file.size(), kSceneFileBytes);
+  EXPECT_EQ(h, kSceneFileHash);
 }
 
 TEST(DemCheckpoint, RestoredWorldContinuesBitwiseOnTwoThreadsAndAcrossThreadCounts) {
