@@ -37,6 +37,7 @@
 #include "core/run_config.hpp"
 #include "coupling/chamber_dem.hpp"
 #include "core/duration_text.hpp"
+#include "core/heap_policy.hpp"
 #include "core/openmp_wait.hpp"
 #include "coupling/checkpoint_files.hpp"
 #include "coupling/lockstep.hpp"
@@ -623,6 +624,7 @@ int follow_on_rank(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   core::prefer_passive_openmp_wait(argv);  // a shared machine: the DEM's threads sleep while they wait
+  core::keep_freed_heap();                 // a decomposed charge's edits rebuild large buffers each time
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress lines reach a redirected log as they are written
   if (nodes::launched_by_mpirun()) {
     nodes::init_ranks(&argc, &argv);

@@ -36,6 +36,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/heap_policy.hpp"
 #include "core/cli_args.hpp"
 #include "core/config.hpp"
 #include "core/run_config.hpp"
@@ -317,6 +318,7 @@ void crusher(const std::string& config, const std::string& from_run, long steps,
 }  // namespace
 
 int main(int argc, char** argv) {
+  core::keep_freed_heap();  // as dem_node
   std::string which = "all", config, from_run;
   bool nutation_given = false;
   long steps = -1;

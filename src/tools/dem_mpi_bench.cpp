@@ -27,6 +27,7 @@
 
 #include "core/binary_io.hpp"
 #include "core/cli_args.hpp"
+#include "core/heap_policy.hpp"
 #include "dem/bench_cases.hpp"
 #include "dem/world.hpp"
 #include "core/config.hpp"
@@ -175,6 +176,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  core::keep_freed_heap();  // as dem_node
   MPI_Init(&argc, &argv);
   int rc = 0;
   try {
