@@ -16,10 +16,10 @@
 // cut: two particles that were `reach` apart cannot touch before. Then the particles migrate, the sectors kept: each
 // rank sends its part to the peers that own one of its particles now or see it as a ghost (migration_peers), and
 // cuts its new part from the union of its own and the received parts (migrate_domain), so particles change owner
-// with their bonds, contact histories and break logs, O(N / P) work and traffic per rank. Only when the sectors'
-// counts would differ by more than the rebalance tolerance (default 5 % over the mean), and at edits, is the charge
-// cut anew: put back together whole (World::assemble) and cut into equal-count sectors (in one process; MPI: through
-// rank 0, O(N) per rank).
+// with their bonds, contact histories and break logs; a rank sends, loads and assembles O(N / P) bytes (the peers'
+// parts, not the whole charge). Only when the sectors' counts would differ by more than the rebalance tolerance
+// (default 5 % over the mean), and at edits, is the charge cut anew: put back together whole (World::assemble) and
+// cut into equal-count sectors (in one process; MPI: through rank 0, O(N) per rank).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

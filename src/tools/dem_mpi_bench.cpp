@@ -12,8 +12,8 @@
 //                                   [--warmup W] [--threads T] [--rebalance-tolerance X]
 // --rebalance-tolerance: the sectors' imbalance over which a spent margin cuts the charge anew through rank 0 instead
 // of migrating (default 0.05; -1: always through rank 0, as before migrations).
-// Prints one line per rank on stderr (owned, ghosts, wall, exchange, re-cut and migration seconds) and rank 0's case line on
-// stdout: particle-steps per second of the whole charge, the exchange's share of the slowest rank's wall time.
+// Prints one line per rank on stderr (owned, ghosts, wall, exchange, re-cut and migration seconds) and rank 0's case
+// line on stdout: particle-steps per second of the whole charge, the exchange's share of the slowest rank's wall time.
 #include <mpi.h>
 
 #include <algorithm>
@@ -93,7 +93,8 @@ int crusher(const std::string& config, long steps, long warmup, int threads, dou
   const auto* own = dem.engine().owned(0);  // null: one World, no ghosts
   const std::size_t ghosts = own ? std::count(own->begin(), own->end(), 0) : 0;
   const auto* mpi = dynamic_cast<const parallel::MpiEngine*>(&dem.engine());
-  std::fprintf(stderr, "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f "
+  std::fprintf(stderr,
+               "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f "
                "recuts %d recut_s %.2f migrations %d migrate_s %.2f\n",
                rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4], mpi ? mpi->recuts() : 0,
                mpi ? mpi->domain().recut_seconds() : 0.0, mpi ? mpi->migrations() : 0,

@@ -147,7 +147,8 @@ TEST(GhostDomains, AMigrationWithoutAPeerThatShouldSendIsRefused) {
         << e.what();
   }
   const dem::Domain n0 =
-      dem::migrate_domain({d0.world.get(), d1.world.get()}, {d0.plan.owned, d1.plan.owned}, d0, params(), nullptr, reach);
+      dem::migrate_domain({d0.world.get(), d1.world.get()}, {d0.plan.owned, d1.plan.owned}, d0, params(), nullptr,
+                          reach);
   EXPECT_EQ(n0.world->n_bonds_intact(), 1u);
   EXPECT_EQ(n0.sectors.bounds(), d0.sectors.bounds());
 }

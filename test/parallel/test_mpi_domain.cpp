@@ -2,8 +2,8 @@
 // (oversubscribed on 2 cores). The pressed charge (test/common/pressed_charge.hpp) stepped on the ranks equals the
 // same cut in one process (LocalDomains) bit for bit, and the whole charge in one World bit for bit on one rank and
 // to round-off on more (the bound and its reason: test/dem/test_ghost_domains.cpp); every particle is owned once,
-// the breaks are the whole World's; migrations and re-cuts through rank 0 give the one process's bit for bit; a run resumed
-// from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's;
+// the breaks are the whole World's; migrations and re-cuts through rank 0 give the one process's bit for bit; a run
+// resumed from its checkpoint per rank continues bit for bit; a liner mesh's wrench summed over the ranks is the whole World's;
 // particles added and removed between steps (on rank 0) reach their owners.
 #include <gtest/gtest.h>
 #include <mpi.h>
