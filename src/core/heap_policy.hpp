@@ -2,8 +2,7 @@
 // Freed heap memory stays in the process. A decomposed DEM charge's edits serialise, gather, assemble and cut the
 // whole charge (tens of MB per buffer, several buffers per edit, every crushing batch); glibc maps each such buffer
 // afresh and unmaps it when freed, so every use page-faults its memory in again, which on the virtual machines we run
-// on costs more than the copies themselves (src/dem/README.md: an edit of the full chamber 3.5-4.8 s on 2 ranks,
-// 0.7-1.0 s with the heap kept).
+// on costs more than the copies themselves (measured in src/dem/README.md, "What an edit costs").
 namespace core {
 
 // Call first thing in main() of a program that rebuilds large buffers over and over: large allocations come from

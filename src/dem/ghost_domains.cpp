@@ -72,15 +72,25 @@ void unpack_ghosts(Particles& p, const std::vector<uint32_t>& idx, const double*
   }
 }
 
+std::unique_ptr<World> new_world(const WorldParams& params, const std::function<void(World&)>& setup) {
+  auto w = std::make_unique<World>(params);
+  if (setup) setup(*w);
+  return w;
+}
+
+std::unique_ptr<World> load_world(core::BinaryReader& r, const WorldParams& params,
+                                  const std::function<void(World&)>& setup) {
+  auto w = new_world(params, setup);
+  w->load_state(r);
+  return w;
+}
+
 namespace {
 std::unique_ptr<World> load(const std::string& checkpoint, const WorldParams& params,
                             const std::function<void(World&)>& setup) {
-  auto w = std::make_unique<World>(params);
-  if (setup) setup(*w);
   std::istringstream is(checkpoint);
   core::BinaryReader r(is, "whole-charge state");
-  w->load_state(r);
-  return w;
+  return load_world(r, params, setup);
 }
 }  // namespace
 
@@ -147,8 +157,7 @@ std::vector<char> migration_peers(const Domain& d, double reach) {
 Domain migrate_domain(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
                       const Domain& mine, const WorldParams& params, const std::function<void(World&)>& setup,
                       double reach) {
-  auto w = std::make_unique<World>(params);
-  if (setup) setup(*w);
+  auto w = new_world(params, setup);
   std::vector<uint64_t> dangling;
   w->assemble(parts, owned, &dangling);
   const int P = mine.sectors.ranks(), rank = mine.plan.rank;
@@ -213,9 +222,7 @@ Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::
   }
   r.get_vec(d.plan.owned);
   r.get_vec(d.x_cut);
-  d.world = std::make_unique<World>(params);
-  if (setup) setup(*d.world);
-  d.world->load_state(r);
+  d.world = load_world(r, params, setup);
   const std::size_t n = d.world->particles().size();
   std::size_t n_owned = 0;
   for (char o : d.plan.owned) n_owned += o ? 1 : 0;
@@ -233,13 +240,12 @@ Domain load_domain(core::BinaryReader& r, const WorldParams& params, const std::
 std::string assemble_charge(const std::vector<const World*>& parts, const std::vector<std::vector<char>>& owned,
                             const WorldParams& params, const std::function<void(World&)>& setup,
                             const std::function<void(World&)>& edit) {
-  World whole(params);
-  if (setup) setup(whole);
-  whole.assemble(parts, owned);
-  if (edit) edit(whole);
+  const auto whole = new_world(params, setup);
+  whole->assemble(parts, owned);
+  if (edit) edit(*whole);
   std::ostringstream os;
   core::BinaryWriter w(os);
-  whole.save_state(w);
+  whole->save_state(w);
   return os.str();
 }
 

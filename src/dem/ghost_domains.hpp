@@ -49,6 +49,12 @@ struct GhostPlan {
 // owned particle has its other end beyond the ghosts (reach shorter than the bond: named).
 GhostPlan cut_domain(World& w, const RankLayout& layout, int rank);
 
+// A World made with params and setup (the walls and interactions of the charge's Worlds); load_world then reads its
+// state from r (World::save_state), throwing std::runtime_error as World::load_state does.
+std::unique_ptr<World> new_world(const WorldParams& params, const std::function<void(World&)>& setup);
+std::unique_ptr<World> load_world(core::BinaryReader& r, const WorldParams& params,
+                                  const std::function<void(World&)>& setup);
+
 // x, y, z, v, w of the listed particles: 9 doubles each, in list order.
 constexpr std::size_t kGhostDoubles = 9;
 void pack_ghosts(const Particles& p, const std::vector<uint32_t>& idx, std::vector<double>& buf);

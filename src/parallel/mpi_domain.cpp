@@ -200,12 +200,10 @@ void MpiDomain::recut(const std::function<void(dem::World&)>& edit) {
     std::vector<std::vector<char>> owned;
     std::size_t at = 0, mat = 0;
     for (int r = 0; r < size_; ++r) {
-      parts.push_back(std::make_unique<dem::World>(params_));
-      if (setup_) setup_(*parts.back());
       std::istringstream is(std::string(world_bytes.begin() + static_cast<long>(at),
                                         world_bytes.begin() + static_cast<long>(at + sizes[r])));
       core::BinaryReader rd(is, "rank " + std::to_string(r) + "'s part");
-      parts.back()->load_state(rd);
+      parts.push_back(dem::load_world(rd, params_, setup_));
       views.push_back(parts.back().get());
       owned.emplace_back(mask_bytes.begin() + static_cast<long>(mat), mask_bytes.begin() + static_cast<long>(mat + counts[r]));
       at += static_cast<std::size_t>(sizes[r]);
@@ -268,11 +266,9 @@ void MpiDomain::migrate() {
         continue;
       }
       if (!in[q]) continue;
-      peers.push_back(std::make_unique<dem::World>(params_));
-      if (setup_) setup_(*peers.back());
       std::istringstream is(got[q]);
       core::BinaryReader rd(is, "rank " + std::to_string(q) + "'s part");
-      peers.back()->load_state(rd);
+      peers.push_back(dem::load_world(rd, params_, setup_));
       owned.emplace_back();
       rd.get_vec(owned.back());
       parts.push_back(peers.back().get());

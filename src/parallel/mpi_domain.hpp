@@ -8,7 +8,7 @@
 // World::step_end(). A run on P ranks equals LocalDomains with P ranks in one process bit for bit (the same Worlds
 // take the same steps). Before each step the ranks agree (MPI_Allreduce) whether a particle has left the layout's
 // margin; then the particles migrate point to point, the sectors kept (each rank's part to the peers that need it:
-// O(N / P) per rank), or, when the sectors' counts are out of balance and at edits, the charge is cut anew through
+// O(N / P) bytes per rank), or, when the sectors' counts are out of balance and at edits, the charge is cut anew through
 // rank 0 (every rank's World to it, the whole charge assembled and broadcast: O(N) per rank).
 #include <mpi.h>
 

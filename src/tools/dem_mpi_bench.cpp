@@ -96,8 +96,8 @@ int crusher(const std::string& config, long steps, long warmup, int threads, dou
   std::fprintf(stderr,
                "rank %d of %d: owned %llu ghosts %zu wall_s %.3f steps_s %.2f crushing_s %.2f bookkeeping_s %.2f "
                "recuts %d recut_s %.2f migrations %d migrate_s %.2f\n",
-               rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4], mpi ? mpi->recuts() : 0,
-               mpi ? mpi->domain().recut_seconds() : 0.0, mpi ? mpi->migrations() : 0,
+               rank, size, mine, ghosts, wall, ph[0] - ph0[0], ph[3] - ph0[3], ph[4] - ph0[4], dem.engine().recuts(),
+               mpi ? mpi->domain().recut_seconds() : 0.0, dem.engine().migrations(),
                mpi ? mpi->domain().migrate_seconds() : 0.0);
   if (rank == 0) {
     std::printf("case crusher ranks %d threads %d particles %llu coupling_steps %ld wall_s %.3f wall_h_per_sim_s %.2f "

@@ -30,6 +30,8 @@ TEST(HeapPolicy, AFreedLargeBufferIsNotFaultedInAgain) {
   ASSERT_TRUE(core::keep_freed_heap());
   const std::size_t n = std::size_t(64) << 20;
   const long first = use_buffer(n), second = use_buffer(n);
+  ASSERT_GE(first, 0) << "malloc of 64 MiB failed";
+  ASSERT_GE(second, 0) << "malloc of 64 MiB failed";
   std::printf("64 MiB buffer: %ld page faults at its first use, %ld at its second\n", first, second);
   EXPECT_LT(second, 1000);
 }
