@@ -351,6 +351,7 @@ void World::rebuild_bond_csr() {
   for (std::size_t b = 0; b < bonds_.size(); ++b)
     if (bonds_[b].alive) bonds_[nb++] = bonds_[b];
   bonds_.resize(nb);
+  dead_bonds_ = 0;
   const std::size_t n = p_.size();
   bstart_.assign(n + 1, 0);
   for (const Bond& b : bonds_) {
@@ -796,22 +797,32 @@ void World::bond_forces() {
     const double* r = P.r.data(); const double* im = P.inv_m.data(); const double* iI = P.inv_I.data();
     long broken = 0;
     for (long b0 = bb; b0 < be; b0 += 4) {
-      Lanes4 xi[3], xj[3], vi[3], vj[3], wi[3], wj[3], ri, rj, imi, imj, iIi, iIj, kn, kt, A, J, rb, zeta;
-      Lanes4 fn, ft[3], tn, tt[3], sigma, tau, f[3], ti[3], tj[3];
-      for (int l = 0; l < 4; ++l) {
-        const Bond& bd = B[b0 + l < be ? b0 + l : b0];
-        const uint32_t i = bd.i, j = bd.j;
-        xi[0][l] = x[i]; xi[1][l] = y[i]; xi[2][l] = z[i]; xj[0][l] = x[j]; xj[1][l] = y[j]; xj[2][l] = z[j];
-        vi[0][l] = vx[i]; vi[1][l] = vy[i]; vi[2][l] = vz[i]; vj[0][l] = vx[j]; vj[1][l] = vy[j]; vj[2][l] = vz[j];
-        wi[0][l] = wx[i]; wi[1][l] = wy[i]; wi[2][l] = wz[i]; wj[0][l] = wx[j]; wj[1][l] = wy[j]; wj[2][l] = wz[j];
-        ri[l] = r[i]; rj[l] = r[j]; imi[l] = im[i]; imj[l] = im[j]; iIi[l] = iI[i]; iIj[l] = iI[j];
-        kn[l] = bd.kn; kt[l] = bd.kt; A[l] = bd.A; J[l] = bd.J; rb[l] = bd.rb; zeta[l] = bd.damping;
-        fn[l] = bd.fn; tn[l] = bd.tn;
-        for (int k = 0; k < 3; ++k) {
-          ft[k][l] = bd.ft[k];
-          tt[k][l] = bd.tt[k];
-        }
-      }
+      // the lanes are built in registers from four scalars each (element stores into a vector in memory, read
+      // back whole, stall on store forwarding)
+      const Bond& b_0 = B[b0];
+      const Bond& b_1 = B[b0 + 1 < be ? b0 + 1 : b0];
+      const Bond& b_2 = B[b0 + 2 < be ? b0 + 2 : b0];
+      const Bond& b_3 = B[b0 + 3 < be ? b0 + 3 : b0];
+      const uint32_t i0 = b_0.i, i1 = b_1.i, i2 = b_2.i, i3 = b_3.i, j0 = b_0.j, j1 = b_1.j, j2 = b_2.j, j3 = b_3.j;
+      auto at_i = [&](const double* a) { return Lanes4{a[i0], a[i1], a[i2], a[i3]}; };
+      auto at_j = [&](const double* a) { return Lanes4{a[j0], a[j1], a[j2], a[j3]}; };
+      auto of = [&](double Bond::*m) { return Lanes4{b_0.*m, b_1.*m, b_2.*m, b_3.*m}; };
+      auto of3 = [&](double (Bond::*m)[3], int k) {
+        return Lanes4{(b_0.*m)[k], (b_1.*m)[k], (b_2.*m)[k], (b_3.*m)[k]};
+      };
+      Lanes4 xi[3] = {at_i(x), at_i(y), at_i(z)}, xj[3] = {at_j(x), at_j(y), at_j(z)};
+      Lanes4 vi[3] = {at_i(vx), at_i(vy), at_i(vz)}, vj[3] = {at_j(vx), at_j(vy), at_j(vz)};
+      Lanes4 wi[3] = {at_i(wx), at_i(wy), at_i(wz)}, wj[3] = {at_j(wx), at_j(wy), at_j(wz)};
+      const Lanes4 ri = at_i(r), rj = at_j(r);
+      const Lanes4 zero{};
+      const Lanes4 imi = damped ? at_i(im) : zero, imj = damped ? at_j(im) : zero;  // damping only
+      const Lanes4 iIi = damped ? at_i(iI) : zero, iIj = damped ? at_j(iI) : zero;
+      const Lanes4 kn = of(&Bond::kn), kt = of(&Bond::kt), A = of(&Bond::A), J = of(&Bond::J), rb = of(&Bond::rb);
+      const Lanes4 zeta = of(&Bond::damping);
+      Lanes4 fn = of(&Bond::fn), tn = of(&Bond::tn);
+      Lanes4 ft[3] = {of3(&Bond::ft, 0), of3(&Bond::ft, 1), of3(&Bond::ft, 2)};
+      Lanes4 tt[3] = {of3(&Bond::tt, 0), of3(&Bond::tt, 1), of3(&Bond::tt, 2)};
+      Lanes4 sigma, tau, f[3], ti[3], tj[3];
       bond_law_lanes<Lanes4>(xi, xj, vi, vj, wi, wj, ri, rj, imi, imj, iIi, iIj, kn, kt, A, J, rb, zeta, damped, dt,
                              fn, ft, tn, tt, sigma, tau, f, ti, tj);
       const long nl = std::min<long>(4, be - b0);
@@ -878,8 +889,10 @@ void World::bond_forces() {
     breaks_.push_back(e);
   }
   // the broken pairs take part in Hertz-Mindlin contact from the next step on: they join the neighbour list
-  // (a rebuild only when they cannot), and the bond index drops them before the next step
-  bonds_dirty_ = true;
+  // (a rebuild only when they cannot); the bond index drops them once they are 1/32 of the bonds (until then they
+  // add a zero force, the alive ones keep their order: the same sums bit for bit)
+  dead_bonds_ += static_cast<std::size_t>(nbroken);
+  if (32 * dead_bonds_ > bonds_.size()) bonds_dirty_ = true;
   if (!insert_pairs(freed)) need_rebuild_ = true;
 }
 
@@ -1194,7 +1207,7 @@ void World::run_steps(long nsteps) {
     if (need_rebuild_ || skin_ < 0 || moved_out)
       rebuild();
     else if (bonds_dirty_)
-      rebuild_bond_csr();  // bonds broke in the last step (their pairs were inserted into the list)
+      rebuild_bond_csr();  // broken bonds reached 1/32 (their pairs were inserted into the list)
     lap(1);
     t_ += prm_.dt;
     pair_forces();

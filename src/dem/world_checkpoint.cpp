@@ -93,7 +93,7 @@ void World::save_state(core::BinaryWriter& w) {
 
   w.tag("BOND");
   w.put<uint64_t>(bonds_.size());
-  for (const Bond& b : bonds_) {  // broken ones of the last step too: the compaction at the next step sees them
+  for (const Bond& b : bonds_) {  // broken ones not compacted yet too: the loaded World compacts them
     w.put<uint32_t>(b.i);
     w.put<uint32_t>(b.j);
     for (double v : {b.rb, b.A, b.J, b.kn, b.kt, b.sigma_c, b.tau_c, b.damping, b.fn}) w.put<double>(v);
@@ -277,7 +277,7 @@ void World::load_state(core::BinaryReader& r) {
   prm_.dt = dt;
   dt_checked_ = dt_checked;
   ghost_.clear();        // a decomposition marks its ghosts again (ghost_domains.hpp)
-  bonds_dirty_ = true;   // bond CSR (and compaction of the last step's broken bonds) at the next step
+  bonds_dirty_ = true;   // bond CSR (and compaction of the broken bonds it holds) at the next step
   need_rebuild_ = true;  // neighbour list from the saved pairs, as the writing run does after save_state
 }
 

@@ -1,10 +1,14 @@
 // Bonded-particle model (Eq. 20-25) against closed forms: axial stiffness k_bn A / L, cantilever bending vs
 // Timoshenko beam theory, breakage at the tensile and shear strengths, momentum of a free bonded cluster,
-// and no Hertz-Mindlin between bonded particles.
+// and no Hertz-Mindlin between bonded particles; broken bonds dropped in batches give the same run.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
+#include <sstream>
+
+#include "core/binary_io.hpp"
 
 #include "dem/world.hpp"
 
@@ -235,6 +239,70 @@ TEST(Bonds, FreeClusterConservesMomentum) {
     EXPECT_NEAR(L1[a], L0[a], 1e-10 * lscale);
   }
   EXPECT_GT(w.kinetic_energy(), 0.0);
+}
+
+// Broken bonds stay in the World (alive 0, no force) until they are 1/32 of its bonds, then one compaction drops
+// them. A bursting bonded block, 2 threads: every step run A saves its state (which makes it rebuild its neighbour
+// list, as a loaded World does) and goes on with its dead bonds; run B goes on from a World loaded from that state,
+// which drops them at once. Both must take the same steps bit for bit, while A holds dead bonds (never more than
+// 1/32 of its bonds plus the step's own breaks) and compacts them more than once.
+TEST(Bonds, BrokenBondsDroppedInBatchesGiveTheSameRun) {
+  dem::WorldParams wp = quiet_params(2e-8);
+  wp.threads = 2;
+  auto a = std::make_unique<dem::World>(wp);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const double r = 1e-3;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) {
+        const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
+        const double v[3] = {0.5 * i + 0.3 * U(rng), 0.5 * j + 0.3 * U(rng), 0.5 * k + 0.3 * U(rng)};  // bursting
+        a->add_particle(x, r * (1 + 0.1 * U(rng)), 0, v);
+      }
+  dem::BondParams bp = table4_bond();
+  bp.sigma_c = 2e6;
+  bp.tau_c = 1e6;
+  const std::size_t nb0 = a->bond_within(0.25 * r, bp);
+  ASSERT_GT(nb0, 1000u);
+  auto save = [](dem::World& w) {
+    std::stringstream ss;
+    core::BinaryWriter bw(ss);
+    w.save_state(bw);
+    return ss.str();
+  };
+  auto b = std::make_unique<dem::World>(wp);
+  {
+    std::stringstream ss(save(*a));
+    core::BinaryReader br(ss, "start");
+    b->load_state(br);
+  }
+  std::size_t held_dead = 0, compactions = 0, last_size = a->bonds().size();
+  for (int s = 0; s < 3000; ++s) {
+    const std::size_t breaks_before = a->breaks().size();
+    a->step(1);
+    b->step(1);
+    const std::size_t size = a->bonds().size(), dead = size - a->n_bonds_intact();
+    const std::size_t new_breaks = a->breaks().size() - breaks_before;
+    held_dead = std::max(held_dead, dead);
+    ASSERT_LE(32 * (dead - std::min(dead, new_breaks)), size) << "step " << s;
+    if (size < last_size) ++compactions;
+    last_size = size;
+    ASSERT_EQ(a->breaks().size(), b->breaks().size()) << "step " << s;
+    const auto &pa = a->particles(), &pb = b->particles();
+    for (std::size_t i = 0; i < pa.size(); ++i) {
+      ASSERT_EQ(pa.x[i], pb.x[i]) << "step " << s << " particle " << i;
+      ASSERT_EQ(pa.vy[i], pb.vy[i]) << "step " << s << " particle " << i;
+      ASSERT_EQ(pa.wz[i], pb.wz[i]) << "step " << s << " particle " << i;
+    }
+    std::stringstream ss(save(*a));  // B restarts from A's state: its dead bonds are dropped at its next step
+    core::BinaryReader br(ss, "step");
+    b = std::make_unique<dem::World>(wp);
+    b->load_state(br);
+  }
+  EXPECT_GT(a->breaks().size(), nb0 / 10) << "the block must break up";
+  EXPECT_GT(held_dead, 0u);
+  EXPECT_GE(compactions, 2u);
 }
 
 TEST(Bonds, InvalidParametersAreRejected) {
