@@ -11,6 +11,9 @@
 //                     1.2 x (r_i + r_j) bonded (Yade's interactionDetectionFactor 1.2), strengths 25 / 9 MPa,
 //                     bond stiffness matched to Yade's CohFrictPhys (k_n = E R, k_s = nu k_n over A = pi R^2),
 //                     floor plane, gravity, dt 1e-7 s; 200 warm-up + 2000 timed steps.
+//   bond_breaks:      what a break costs: 55^3 touching 1 mm spheres on a cubic lattice, neighbours bonded (490,050
+//                     bonds, Table 4 stiffness and strengths), no gravity, dt 1e-7 s; 10 warm-up steps, then --steps
+//                     (200) steps intact and as many with one sphere kicked to 50 m/s each step (its bonds break).
 //   crusher:          the coupled run's DEM chamber (coupling::ChamberDem) of --config (default in `crusher bench`:
 //                     gyp1200_400rpm.yaml), pre-filled as the coupled run starts, the mantle held at the crushing
 //                     state's nutation (--nutation-deg, 0.73: src/mbd/README.md) and gyrating at the drive speed;
@@ -20,7 +23,7 @@
 //                     (its nutation unless --nutation-deg is given), the concave held where it was.
 //                     --parts N: then the same steps from the same state with the charge cut into N parts in this
 //                     process (crusher_parts: the decomposition's added work and edits against the whole World).
-// Usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] [--threads T]
+// Usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|bond_breaks|crusher|all] [--steps S] [--threads T]
 //                  [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D] [--parts N]
 // (all: the three peer cases; --warmup overrides the peers' warm-up step counts, for profiling only)
 #include <omp.h>
@@ -121,6 +124,47 @@ void bonded_hex(long steps, int threads, long warmup) {
   report("bonded_hex", w, steps, wall);
   std::fprintf(stderr, "bonded_hex: %zu intact bonds (%.2f per particle), %zu broken\n", w.n_bonds_intact(),
                2.0 * w.n_bonds_intact() / w.particles().size(), w.breaks().size());
+}
+
+// Milliseconds per step of a large bonded lattice, intact and with bonds breaking in most steps (a crushing charge
+// breaks bonds in most of its steps; World drops broken bonds in batches, world.hpp).
+void bond_breaks(long steps, int threads, long warmup) {
+  dem::WorldParams wp;
+  wp.dt = 1e-7;
+  wp.gravity = {{0, 0, 0}};
+  wp.threads = threads;
+  dem::World w(wp);
+  const int n = 55;
+  const double r = 1e-3;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
+        w.add_particle(x, r, 0);
+      }
+  dem::BondParams bp;  // Table 4
+  bp.kn = 400e9;
+  bp.kt = 160e9;
+  bp.sigma_c = 25e6;
+  bp.tau_c = 9e6;
+  const std::size_t nb = w.bond_within(1e-9, bp);
+  w.step(warmup >= 0 ? warmup : 10);
+  double ms[2];
+  long breaking_steps = 0;
+  const std::size_t b0 = w.breaks().size();
+  for (int kick = 0; kick < 2; ++kick) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (long s = 0; s < steps; ++s) {
+      const std::size_t before = w.breaks().size();
+      if (kick) w.particles().vx[(s * 7919) % w.particles().size()] = 50.0;
+      w.step(1);
+      breaking_steps += w.breaks().size() > before;
+    }
+    ms[kick] = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
+  }
+  std::printf("case bond_breaks particles %zu bonds %zu threads %d steps %ld intact_ms_per_step %.2f "
+              "breaking_ms_per_step %.2f breaks %zu steps_with_breaks %ld\n",
+              w.particles().size(), nb, w.threads(), steps, ms[0], ms[1], w.breaks().size() - b0, breaking_steps);
 }
 
 // ---------------------------------------------------------------- crusher
@@ -333,10 +377,10 @@ int main(int argc, char** argv) {
       auto next = [&] { return args.value(); };
       if (a == "--case") {
         which = next();
-        if (which != "granular_fcc" && which != "granular_pressed" && which != "bonded_hex" && which != "crusher" &&
-            which != "all")
-          throw std::invalid_argument(
-              "--case accepts granular_fcc, granular_pressed, bonded_hex, crusher or all, got '" + which + "'");
+        if (which != "granular_fcc" && which != "granular_pressed" && which != "bonded_hex" && which != "bond_breaks" &&
+            which != "crusher" && which != "all")
+          throw std::invalid_argument("--case accepts granular_fcc, granular_pressed, bonded_hex, bond_breaks, "
+                                      "crusher or all, got '" + which + "'");
       } else if (a == "--steps") {
         steps = args.integer(1, 1000000000);
       } else if (a == "--threads") {
@@ -353,8 +397,9 @@ int main(int argc, char** argv) {
         nutation_deg = args.number(0.0, 4.999);
         nutation_given = true;
       } else if (a == "-h" || a == "--help") {
-        std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|crusher|all] [--steps S] "
-                     "[--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D] [--parts N]\n";
+        std::cout << "usage: dem_bench [--case granular_fcc|granular_pressed|bonded_hex|bond_breaks|crusher|all] "
+                     "[--steps S] [--threads T] [--warmup W] [--config FILE] [--from-run DIR] [--nutation-deg D] "
+                     "[--parts N]\n";
         return 0;
       } else {
         throw std::invalid_argument("unknown option '" + a +
@@ -366,6 +411,7 @@ int main(int argc, char** argv) {
     if (which == "granular_fcc" || all) granular_fcc(steps > 0 ? steps : 5000, threads, warmup);
     if (which == "granular_pressed" || all) granular_pressed(steps > 0 ? steps : 5000, threads, warmup);
     if (which == "bonded_hex" || all) bonded_hex(steps > 0 ? steps : 2000, threads, warmup);
+    if (which == "bond_breaks") bond_breaks(steps > 0 ? steps : 200, threads, warmup);
     if (which == "crusher")
       crusher(config, from_run, steps > 0 ? steps : 2, threads, warmup >= 0 ? warmup : 1, nutation_deg, nutation_given,
               parts);
