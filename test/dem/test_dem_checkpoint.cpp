@@ -155,6 +155,7 @@ Snapshot snapshot(const Scene& s) {
   out.ids = p.id;
   out.ids.push_back(p.next_id);
   for (const dem::Bond& b : w.bonds()) {
+    if (!b.alive) continue;  // broken bonds are dropped in batches, a run and its restored copy at other steps
     out.bonds.insert(out.bonds.end(), {double(b.i), double(b.j), b.fn, b.ft[0], b.ft[1], b.ft[2], b.tn, b.tt[0],
                                        b.tt[1], b.tt[2], double(b.alive)});
   }
