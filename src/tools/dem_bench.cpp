@@ -51,6 +51,7 @@
 #include "dem/sector_decomposition.hpp"
 #include "dem/world.hpp"
 #include "mbd/mechanism_params.hpp"
+#include "rocks/bpm_config.hpp"
 #include "tools/crusher_gyration.hpp"
 
 namespace {
@@ -142,11 +143,8 @@ void bond_breaks(long steps, int threads, long warmup) {
         const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
         w.add_particle(x, r, 0);
       }
-  dem::BondParams bp;  // Table 4
-  bp.kn = 400e9;
-  bp.kt = 160e9;
-  bp.sigma_c = 25e6;
-  bp.tau_c = 9e6;
+  dem::BondParams bp = rocks::BondSettings{}.params();  // Table 4's stiffness and strengths
+  bp.radius_multiplier = 1.0;                            // the bond disk as wide as the spheres
   const std::size_t nb = w.bond_within(1e-9, bp);
   w.step(warmup >= 0 ? warmup : 10);
   double ms[2];

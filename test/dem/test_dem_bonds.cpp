@@ -265,18 +265,16 @@ TEST(Bonds, BrokenBondsDroppedInBatchesGiveTheSameRun) {
   bp.tau_c = 1e6;
   const std::size_t nb0 = a->bond_within(0.25 * r, bp);
   ASSERT_GT(nb0, 1000u);
-  auto save = [](dem::World& w) {
+  auto restored = [&](dem::World& from) {  // a World loaded from from's checkpoint: it drops the dead bonds at once
     std::stringstream ss;
     core::BinaryWriter bw(ss);
-    w.save_state(bw);
-    return ss.str();
+    from.save_state(bw);
+    core::BinaryReader br(ss, "checkpoint");
+    auto w = std::make_unique<dem::World>(wp);
+    w->load_state(br);
+    return w;
   };
-  auto b = std::make_unique<dem::World>(wp);
-  {
-    std::stringstream ss(save(*a));
-    core::BinaryReader br(ss, "start");
-    b->load_state(br);
-  }
+  auto b = restored(*a);
   std::size_t held_dead = 0, compactions = 0, last_size = a->bonds().size();
   for (int s = 0; s < 3000; ++s) {
     const std::size_t breaks_before = a->breaks().size();
@@ -295,10 +293,7 @@ TEST(Bonds, BrokenBondsDroppedInBatchesGiveTheSameRun) {
       ASSERT_EQ(pa.vy[i], pb.vy[i]) << "step " << s << " particle " << i;
       ASSERT_EQ(pa.wz[i], pb.wz[i]) << "step " << s << " particle " << i;
     }
-    std::stringstream ss(save(*a));  // B restarts from A's state: its dead bonds are dropped at its next step
-    core::BinaryReader br(ss, "step");
-    b = std::make_unique<dem::World>(wp);
-    b->load_state(br);
+    b = restored(*a);  // B restarts from A's state
   }
   EXPECT_GT(a->breaks().size(), nb0 / 10) << "the block must break up";
   EXPECT_GT(held_dead, 0u);
