@@ -90,14 +90,15 @@ struct Die {
   int floor = -1, piston = -1;
 };
 
-Die make_die(const dem::WorldParams& wp, double radius, double height, int threads) {
+// The wall reaches `below` m under the floor's start (the room a bed pushed down the die needs).
+Die make_die(const dem::WorldParams& wp, double radius, double height, double below, int threads) {
   Die d;
   d.world = std::make_unique<dem::World>(wp);
   const double o[3] = {0, 0, 0}, up[3] = {0, 0, 1}, top[3] = {0, 0, height}, down[3] = {0, 0, -1};
   d.floor = d.world->add_plane(o, up, kSteel);
   d.piston = d.world->add_plane(top, down, kSteel);
-  auto mesh = dem::revolve_profile({{-0.01, radius}, {height + 0.01, radius}}, kDieSectors, dem::NormalSide::Inward,
-                                   0.0, "die");
+  auto mesh = dem::revolve_profile({{-0.01 - below, radius}, {height + 0.01, radius}}, kDieSectors,
+                                   dem::NormalSide::Inward, 0.0, "die");
   d.wall = std::make_shared<dem::MeshContact>(std::move(mesh), wp.materials, kSteel);
   d.wall->set_threads(threads);
   d.wall->set_pose(dem::Pose{});
@@ -141,6 +142,10 @@ void PistonDieOptions::validate() const {
   if (!(max_overlap_fraction > 0.0 && max_overlap_fraction <= 1.0)) bad("max_overlap_fraction: accepted (0, 1]");
   if (!(unload_stop_ratio > 0.0 && unload_stop_ratio < 0.5)) bad("unload_stop_ratio: accepted (0, 0.5)");
   if (reloads < 0 || reloads > 20) bad("reloads: accepted 0-20 pressings of the same bed after the first");
+  if (!(sweep >= 0.0 && sweep <= 5.0)) bad("sweep " + std::to_string(sweep) + ": accepted 0-5 (x the piston's speed)");
+  if (!(reload_shift >= 0.0 && reload_shift <= 0.2))
+    bad("reload_shift " + std::to_string(reload_shift * 1e3) + " mm: accepted 0-200 mm");
+  if (reload_shift > 0.0 && reloads == 0) bad("reload_shift: a shift comes before a reload; set reloads >= 1");
   if (record_every < 1) bad("record_every: accepted >= 1");
   if (!(resolve_diameters >= 1.0)) bad("resolve_diameters: accepted >= 1");
   if (threads < 1 || threads > 256) bad("threads: accepted 1-256");
@@ -257,7 +262,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   wp.max_overlap_fraction = o.max_overlap_fraction;
   wp.blowup_dump_path = o.blowup_dump_path;
   const double column = z_top + o.rock_max;
-  Die die = make_die(wp, R, column, o.threads);
+  Die die = make_die(wp, R, column, 0.0, o.threads);
   dem::World& w = *die.world;
   const dem::BondParams bp = bpm.bond.params();
   for (std::size_t k = 0; k < feed.size(); ++k) {
@@ -311,13 +316,20 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   // (curves, energies, bonds broken since `breaks0`, PSD). False when it blew up (res.blowup says where).
   auto press = [&](dem::World& wk, const Die& d, double s_max, double z0, std::size_t breaks0, PressLoop& L) {
     const auto tl = Clock::now();
-    const double start[3] = {0, 0, z0}, vdown[3] = {0, 0, -v}, vup[3] = {0, 0, v};
+    // sweep: the piston also slides sideways (+x loading, -x unloading), as the gyrating mantle sweeps the bed
+    const double vt = o.sweep * v;
+    const double start[3] = {0, 0, z0}, vdown[3] = {vt, 0, -v}, vup[3] = {-vt, 0, v};
     wk.set_wall_position(d.piston, start);
     wk.set_wall_velocity(d.piston, vdown);
     L.s_max = s_max;
-    L.s.push_back((H0 - z0) / H0), L.p.push_back(0.0), L.phase.push_back(0);
+    const double floor_z = wk.wall(d.floor).p[2];  // 0, or lower once the bed was pushed down the die
+    double top = floor_z;
+    for (std::size_t i = 0; i < wk.particles().size(); ++i)
+      top = std::max(top, wk.particles().z[i] + wk.particles().r[i]);
+    L.s_top = (H0 - (top - floor_z)) / H0;
+    L.s.push_back((H0 - (z0 - floor_z)) / H0), L.p.push_back(0.0), L.phase.push_back(0);
     int phase = 0;
-    double fsum = 0.0, ssum = 0.0, peak = 0.0;
+    double fsum = 0.0, ssum = 0.0, peak = 0.0, sweep_work = 0.0;
     int n = 0;
     double next_report = seconds_since(tl) + 10.0;
     for (;;) {
@@ -330,8 +342,9 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
         res.blowup = at + std::string(e.what());
         return false;
       }
-      const double s = (H0 - wk.wall(d.piston).p[2]) / H0;
+      const double s = (H0 - (wk.wall(d.piston).p[2] - floor_z)) / H0;
       fsum += wk.wall(d.piston).force[2];  // particles push the piston up (+z)
+      sweep_work -= wk.wall(d.piston).force[0] * wk.wall(d.piston).v[0] * wk.dt();  // the piston's sideways work
       ssum += s;
       if (++n < o.record_every && !(phase == 0 && s >= s_max)) continue;
       const double pm = fsum / n / A, sm = ssum / n;
@@ -365,26 +378,58 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     double m = 0.0;
     L.passing = fragment_passing(wk, sieves, &m, &L.fragments);
     L.mass_error = std::abs(m - res.rock_mass) / res.rock_mass;
+    L.sweep_energy_per_kg = sweep_work / res.rock_mass;
     L.wall_s = seconds_since(tl);
     if (o.verbose)
       std::fprintf(stderr, "  s_max %.2f%s: peak %.3f MPa, loop %.1f J/kg of %.1f J/kg loading, %zu bonds broken, "
-                   "%d fragments, %.0f s\n", s_max, z0 < H0 ? " again" : "", peak * 1e-6, L.energy_per_kg,
+                   "%d fragments, %.0f s\n", s_max, L.s.front() > 0.0 ? " again" : "", peak * 1e-6, L.energy_per_kg,
                    L.loading_energy_per_kg, L.bonds_broken, L.fragments, L.wall_s);
     return true;
   };
+  // Pushes the bed `shift` m down the die: floor and piston move down together at the piston's speed (the bed slides
+  // along the wall), then everything is left to come to rest (rms speed under settle_speed, at most settle_max_time).
+  auto push_down = [&](dem::World& wk, const Die& d, double shift, PressLoop& L) {
+    const double vdown[3] = {0, 0, -v}, still[3] = {0, 0, 0};
+    const double zf = wk.wall(d.floor).p[2] - shift, zp = wk.wall(d.piston).p[2] - shift;
+    wk.set_wall_velocity(d.floor, vdown);
+    wk.set_wall_velocity(d.piston, vdown);
+    const long n = std::max(1L, static_cast<long>(std::lround(shift / (v * res.dt))));
+    for (long k = 0; k < n; ++k) {
+      wk.step(1);
+      L.shift_peak_pressure = std::max(L.shift_peak_pressure, wk.wall(d.piston).force[2] / A);
+    }
+    const double fz[3] = {0, 0, zf}, pz[3] = {0, 0, zp};
+    wk.set_wall_position(d.floor, fz), wk.set_wall_position(d.piston, pz);
+    wk.set_wall_velocity(d.floor, still), wk.set_wall_velocity(d.piston, still);
+    const double t_end = wk.time() + o.settle_max_time;
+    do wk.step(chunk);
+    while (std::sqrt(2.0 * wk.kinetic_energy() / res.rock_mass) >= o.settle_speed && wk.time() < t_end);
+    L.shift = shift;
+  };
+  // A World built with the die `below` and the state in `bytes` (the pressings go on in a longer die when the bed is
+  // pushed down: the pour and the first pressing keep the die without it, so they are those of an unshifted run).
+  auto die_with = [&](double below, const std::string& bytes, const char* what) {
+    Die d = make_die(wp, R, column, below, o.threads);
+    std::istringstream is(bytes);
+    core::BinaryReader br(is, what);
+    d.world->load_state(br);
+    return d;
+  };
   for (double s_max : o.compression_ratios) {
-    Die d = make_die(wp, R, column, o.threads);
-    {
-      std::istringstream is(settled);
-      core::BinaryReader br(is, "settled piston-die bed");
-      d.world->load_state(br);
+    Die d = die_with(0.0, settled, "settled piston-die bed");
+    PressLoop L;
+    bool blew_up = !press(*d.world, d, s_max, H0, settle_breaks, L);
+    if (!blew_up && o.reloads > 0 && o.reload_shift > 0.0) {
+      std::stringstream pressed;
+      core::BinaryWriter bw(pressed);
+      d.world->save_state(bw);
+      d = die_with(o.reloads * o.reload_shift, pressed.str(), "pressed piston-die bed");
     }
     dem::World& wk = *d.world;
-    PressLoop L;
-    bool blew_up = !press(wk, d, s_max, H0, settle_breaks, L);
     for (int k = 0; k < o.reloads && !blew_up; ++k) {  // the same bed again, from where the piston let go of it
       PressLoop again;
       const std::size_t breaks0 = wk.breaks().size();
+      if (o.reload_shift > 0.0) push_down(wk, d, o.reload_shift, again);
       blew_up = !press(wk, d, s_max, wk.wall(d.piston).p[2], breaks0, again);
       if (!blew_up) L.reloads.push_back(std::move(again));
     }

@@ -58,6 +58,15 @@ struct PistonDieOptions {
   // Pressings of the same bed again to the same s_max after the first (each from where the piston let go of the bed,
   // nothing re-poured): what a compacted bed dissipates and breaks when it is reloaded (PressLoop::reloads).
   int reloads = 0;
+  // m: before each reload the bed is pushed this far down the die (floor and piston move down together at
+  // piston_speed, the bed sliding along the die wall, as the chamber's bed slides down the liners between pressings),
+  // then left to come to rest; 0: reloaded where it lies. What a shift does to the reload measures how far a
+  // compacted bed must move to loosen (src/chamber/README.md).
+  double reload_shift = 0.0;
+  // Sideways speed of the piston / its vertical speed in every pressing (+x loading, -x unloading): the bed is pressed
+  // and sheared at once, as under the gyrating mantle, whose surface slides along the bed about as far as it closes
+  // (src/chamber/README.md); the sideways work is booked apart (PressLoop::sweep_energy_per_kg). 0: a plain die.
+  double sweep = 0.0;
   int record_every = 50;             // steps per recorded (averaged) point
   double resolve_diameters = 2.0;    // classes resolved: lower bound >= this x volume-mean metaparticle diameter
   unsigned long long seed = 1;
@@ -88,7 +97,11 @@ struct PressLoop {
   std::vector<double> passing;       // product PSD: mass fraction passing each sieve of flow_sieves_mm()
   int fragments = 0;
   double wall_s = 0.0;
-  // PistonDieOptions::reloads: the same bed pressed again to s_max, in order. Their s counts from the first loop's H0,
+  double sweep_energy_per_kg = 0.0;  // J/kg: the piston's sideways work (PistonDieOptions::sweep), not in the loop
+  double s_top = 0.0;                // 1 - (highest sphere top - floor) / H0 at the start: where a flat piston meets it
+  double shift = 0.0;                // m the bed was pushed down the die before this pressing (reload_shift)
+  double shift_peak_pressure = 0.0;  // Pa: the largest piston force / die area while pushing it (the wall's hold)
+  // PistonDieOptions::reloads: the same bed pressed again to s_max, in order. Their s is 1 - (piston - floor) / H0,
   // their energies per the same bed volume and rock mass, their bonds_broken those of that pressing alone. Not used by
   // the fits (the flow model's law reloads without loss: src/chamber/README.md) and not in the pourings' record.
   std::vector<PressLoop> reloads;

@@ -46,17 +46,24 @@ struct Args {
   double die_mm = 0;       // 0: the library's default
   int replicates = 1;      // pourings (seeds seed, seed + 1, ...), fitted pooled; >= 2: also scatter.lump_std
   int reloads = 0;         // pressings of each bed again to the same s_max after the first (not fitted)
+  double shift_mm = 0;     // each reload after the bed is pushed this far down the die
+  double sweep = 0;        // sideways piston speed / its vertical speed in every pressing
 };
 
 constexpr const char* kUsage =
     "usage: piston_die --out DIR [--bpm FILE] [--quick] [--threads N] [--seed N] [--dt-safety X] [--rocks N] "
-    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--reloads K] [--lab CSV] "
-    "[--pool DIR1,DIR2,...]\n"
+    "[--die-mm D] [--ratios S1,S2,...] [--speed-m-s V] [--replicates K] [--reloads K [--shift-mm F]] "
+    "[--sweep R] [--lab CSV] [--pool DIR1,DIR2,...]\n"
     "  --replicates K: K pourings (seeds N ... N + K - 1), the material fitted on all of them pooled, each pouring's "
     "own fit in piston_die_fits.csv, scatter.lump_std from the peaks' spread; a pouring whose deeper loop blows up "
     "keeps the loops it completed; with K >= 3 the jackknife (the pooled fit without each pouring)\n"
     "  --reloads K: after each first pressing, K more of the same bed to the same s_max (nothing re-poured): the loop "
     "energy, bonds broken and product of each, printed and in piston_die_reloads.csv (not fitted)\n"
+    "  --shift-mm F: before each reload the bed is pushed F mm down the die (floor and piston together, the bed "
+    "sliding along the wall) and left to rest: how far a compacted bed must move to loosen\n"
+    "  --sweep R: in every pressing the piston also slides sideways at R x its vertical speed (out while loading, "
+    "back while unloading), the bed pressed and sheared at once as under the gyrating mantle; its sideways work is "
+    "printed apart (the fits written are then those of the swept pressings)\n"
     "  --pool DIR1,DIR2,...: no DEM; the pourings recorded in each DIR/piston_die_pourings.txt (earlier runs of this "
     "program, the same die) fitted together as --replicates does\n  --lab CSV: a laboratory piston-die file (columns "
     "s,p_MPa[,phase]; phase load/unload or 0/1) fitted instead of the DEM test\n";
@@ -104,6 +111,14 @@ Args parse(int argc, char** argv) {
       else if (s == "--die-mm") a.die_mm = static_cast<double>(args.integer(50, 2000));
       else if (s == "--replicates") a.replicates = static_cast<int>(args.integer(2, 100));
       else if (s == "--reloads") a.reloads = static_cast<int>(args.integer(1, 20));
+      else if (s == "--shift-mm") a.shift_mm = static_cast<double>(args.integer(1, 200));
+      else if (s == "--sweep") {
+        const std::string v = args.value();
+        char* end = nullptr;
+        a.sweep = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end || !(a.sweep > 0.0 && a.sweep <= 5.0))
+          usage("--sweep is the piston's sideways / vertical speed, a number in (0, 5], got '" + v + "'");
+      }
       else if (s == "--threads") a.threads = static_cast<int>(args.integer(1, 256));
       else if (s == "--seed") a.seed = static_cast<unsigned long long>(args.integer(1, 1000000000));
       else if (s == "--dt-safety") {
@@ -117,19 +132,21 @@ Args parse(int argc, char** argv) {
         std::exit(0);
       } else {
         usage("unknown argument '" + s + "' (accepted: --out, --bpm, --quick, --threads, --seed, --dt-safety, --rocks, "
-              "--die-mm, --ratios, --speed-m-s, --replicates, --reloads, --lab, --pool)");
+              "--die-mm, --ratios, --speed-m-s, --replicates, --reloads, --shift-mm, --sweep, --lab, --pool)");
       }
     }
   } catch (const std::invalid_argument& e) {
     usage(e.what());
   }
   if (a.out.empty()) usage("--out DIR is required");
+  if ((a.shift_mm > 0 || a.sweep > 0) && a.reloads == 0)
+    usage("--shift-mm and --sweep are measured on the reloads (piston_die_reloads.csv): they need --reloads K");
   if (!a.lab.empty() && (a.quick || !a.bpm.empty() || a.replicates > 1 || a.reloads > 0))
-    usage("--lab fits lab data: --quick, --bpm, --replicates and --reloads do not apply");
+    usage("--lab fits lab data: --quick, --bpm, --replicates, --reloads, --shift-mm and --sweep do not apply");
   if (!a.pool.empty() && (!a.lab.empty() || a.quick || !a.bpm.empty() || a.replicates > 1 || a.rocks > 0 ||
                           a.die_mm > 0 || !a.ratios.empty() || a.speed > 0 || a.reloads > 0))
     usage("--pool fits recorded pourings: --lab, --quick, --bpm, --replicates, --rocks, --die-mm, --ratios, "
-          "--speed-m-s and --reloads do not apply");
+          "--speed-m-s, --reloads, --shift-mm and --sweep do not apply");
   return a;
 }
 
@@ -244,6 +261,8 @@ std::vector<chamber::PistonDieResult> run_dem(const Args& a, std::string& source
   if (a.die_mm > 0) o.die_diameter = a.die_mm * 1e-3;
   if (!a.ratios.empty()) o.compression_ratios = a.ratios;
   o.reloads = a.reloads;
+  o.reload_shift = a.shift_mm * 1e-3;
+  o.sweep = a.sweep;
   std::vector<chamber::PistonDieResult> pourings;
   // Replicates: a pouring whose deeper loop blows up (a jammed bed; half the step jams it too, measured) keeps the
   // loops it completed, and one that blows up in its first loop is left out (named, its state dumped per seed), so
@@ -310,20 +329,23 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
 }
 
 // Each pressing of each bed (0: the first, from the loose pour; 1, 2, ...: reloads of the same bed) as a row:
-// pouring,seed,s_max,pressing,s_start (where the piston met the bed: a reload starts where the last let go),
-// s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken (in that pressing),fragments,
-// passing_<sieve>mm (%); printed as a table too. Their curves in `curves` (pouring,seed,s_max,pressing,phase,s,p_MPa).
+// pouring,seed,s_max,pressing,s_start (where the piston starts: a reload starts where the last let go),s_top (where
+// the bed's highest sphere is then),
+// s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken (in that pressing and the push
+// before it),fragments,shift_mm (pushed down the die before it),push_MPa (the push's peak),sweep_J_kg (the piston's
+// sideways work, --sweep),passing_<sieve>mm (%);
+// printed as a table too. Their curves in `curves` (pouring,seed,s_max,pressing,phase,s,p_MPa).
 void write_reloads(const std::string& file, const std::string& curves,
                    const std::vector<chamber::PistonDieResult>& pourings) {
   std::ofstream csv(file), cv(curves);
   cv << "pouring,seed,s_max,pressing,phase,s,p_MPa\n";
   const auto& sv = chamber::flow_sieves_mm();
-  csv << "pouring,seed,s_max,pressing,s_start,s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio,bonds_broken,"
-         "fragments";
+  csv << "pouring,seed,s_max,pressing,s_start,s_top,s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio,bonds_broken,"
+         "fragments,shift_mm,push_MPa,sweep_J_kg";
   for (double x : sv) csv << ",passing_" << f("%g", x) << "mm";
   csv << "\n";
-  std::printf("reloads: pressing, from s, peak MPa, loop J/kg (x the first's), loading J/kg, bonds broken, "
-              "passing 22.4 / 12 mm %%\n");
+  std::printf("reloads: pressing, from s (bed top at s), peak MPa, loop J/kg (x the first's), loading J/kg, "
+              "bonds broken, passing 22.4 / 12 mm %%, pushed mm down the die first (push's peak MPa), sideways J/kg\n");
   const std::size_t k22 = std::find(sv.begin(), sv.end(), 22.4) - sv.begin();
   const std::size_t k12 = std::find(sv.begin(), sv.end(), 12.0) - sv.begin();
   for (std::size_t i = 0; i < pourings.size(); ++i)
@@ -335,19 +357,22 @@ void write_reloads(const std::string& file, const std::string& curves,
         const double peak = chamber::loop_peak_pressure(L);
         const double ratio = first.energy_per_kg > 0 ? L.energy_per_kg / first.energy_per_kg : 0.0;
         csv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << f("%.6g", L.s.front()) << ","
-            << f("%.6g", L.s_reached) << ","
+            << f("%.6g", L.s_top) << "," << f("%.6g", L.s_reached) << ","
             << f("%.6g", peak * 1e-6) << "," << f("%.6g", L.energy_per_kg) << "," << f("%.6g", L.loading_energy_per_kg)
-            << "," << f("%.6g", ratio) << "," << L.bonds_broken << "," << L.fragments;
+            << "," << f("%.6g", ratio) << "," << L.bonds_broken << "," << L.fragments << ","
+            << f("%g", L.shift * 1e3) << "," << f("%.6g", L.shift_peak_pressure * 1e-6) << ","
+            << f("%.6g", L.sweep_energy_per_kg);
         for (double x : L.passing) csv << "," << f("%.4f", 100 * x);
         csv << "\n";
         for (std::size_t q = 0; q < L.s.size(); ++q)
           cv << i << "," << pourings[i].seed << "," << L.s_max << "," << k << "," << (L.phase[q] ? "unload" : "load")
              << "," << f("%.6g", L.s[q]) << "," << f("%.6g", L.p[q] * 1e-6) << "\n";
-        std::printf("  seed %llu s_max %.2f pressing %zu: from %.4f, %.3f MPa, %.2f J/kg (x %.3f), %.2f J/kg, "
-                    "%zu bonds, %.2f / %.2f %%\n", pourings[i].seed, L.s_max, k, L.s.front(), peak * 1e-6,
-                    L.energy_per_kg, ratio, L.loading_energy_per_kg, L.bonds_broken,
+        std::printf("  seed %llu s_max %.2f pressing %zu: from %.4f (%.4f), %.3f MPa, %.2f J/kg (x %.3f), %.2f J/kg, "
+                    "%zu bonds, %.2f / %.2f %%, %.0f mm (%.3f MPa), %.2f J/kg\n", pourings[i].seed, L.s_max, k,
+                    L.s.front(), L.s_top, peak * 1e-6, L.energy_per_kg, ratio, L.loading_energy_per_kg, L.bonds_broken,
                     k22 < L.passing.size() ? 100 * L.passing[k22] : 0.0,
-                    k12 < L.passing.size() ? 100 * L.passing[k12] : 0.0);
+                    k12 < L.passing.size() ? 100 * L.passing[k12] : 0.0, L.shift * 1e3,
+                    L.shift_peak_pressure * 1e-6, L.sweep_energy_per_kg);
       }
     }
 }
@@ -355,6 +380,8 @@ void write_reloads(const std::string& file, const std::string& curves,
 // The pooled fit of the pourings and every output file.
 int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& pourings, const std::string& source) {
   const chamber::PistonDieResult& r = pourings.front();
+  if (a.reloads > 0)  // first: measured, not fitted, so a fit that fails does not lose them
+    write_reloads(a.out + "/piston_die_reloads.csv", a.out + "/piston_die_reload_curves.csv", pourings);
   chamber::MaterialFit m = chamber::fit_flow_material(pourings);  // pooled over the pourings
   std::string scatter;
   std::vector<std::string> spread;
@@ -413,8 +440,6 @@ int fit_and_write(const Args& a, const std::vector<chamber::PistonDieResult>& po
               << "\n";
   }
   if (!a.pool.empty()) chamber::write_pourings(pourings, a.out + "/piston_die_pourings.txt");  // the pool, for a later one
-  if (a.reloads > 0)
-    write_reloads(a.out + "/piston_die_reloads.csv", a.out + "/piston_die_reload_curves.csv", pourings);
   const auto& sv = chamber::flow_sieves_mm();
   std::ofstream psd(a.out + "/psd.csv"), fit(a.out + "/psd_fit.csv");
   psd << "s_max,sieve_mm,passing_pct\n";

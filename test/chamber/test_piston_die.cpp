@@ -454,6 +454,72 @@ TEST(PistonDie, OptionsNameWhatIsWrong) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("reloads"), std::string::npos) << e.what();
   }
+  o = PistonDieOptions();
+  o.reload_shift = 0.02;  // a shift without a reload to follow it
+  try {
+    o.validate();
+    FAIL() << "reload_shift without reloads accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("reload_shift"), std::string::npos) << e.what();
+  }
+  o.reloads = 1;
+  EXPECT_NO_THROW(o.validate());
+  o.reload_shift = 0.25;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
+// A bed pushed down the die before its reload (reload_shift): the pour and the first pressing are those of the run
+// without the shift, bit for bit (the longer die is built after them); the push moves the bed with the floor, so the
+// reload's s, counted from the moved floor, starts where the unshifted reload does to within the bed's settling
+// (a reload that counted from the old floor would start 20 mm / H0 ~ 0.35 higher); mass is conserved. And a pressing
+// with a sideways sweep books the piston's sideways work within Coulomb's bound.
+TEST(PistonDie, ABedPushedDownTheDieIsReloadedWhereItLies) {
+  const rocks::BpmModel bpm = rocks::load_bpm_model(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/bpm_calibrated.yaml");
+  PistonDieOptions o;
+  o.die_diameter = 0.10;
+  o.rock_min = 0.028, o.rock_max = 0.032;
+  o.rock_count = 18;
+  o.compression_ratios = {0.3};
+  o.piston_speed = 0.5;
+  o.settle_max_time = 0.15;
+  o.threads = 1;
+  o.seed = 3;
+  o.reloads = 1;
+  const PistonDieResult still = run_piston_die(bpm, o);
+  o.reload_shift = 0.02;
+  const PistonDieResult pushed = run_piston_die(bpm, o);
+  ASSERT_EQ(still.loops.size(), 1u);
+  ASSERT_EQ(pushed.loops.size(), 1u);
+  const PressLoop &a = still.loops[0], &b = pushed.loops[0];
+  EXPECT_EQ(a.s, b.s);
+  EXPECT_EQ(a.p, b.p);
+  EXPECT_EQ(a.bonds_broken, b.bonds_broken);
+  EXPECT_EQ(b.shift, 0.0);
+  ASSERT_EQ(b.reloads.size(), 1u);
+  const PressLoop &ra = a.reloads[0], &rb = b.reloads[0];
+  EXPECT_EQ(ra.shift, 0.0);
+  EXPECT_DOUBLE_EQ(rb.shift, 0.02);
+  EXPECT_GT(rb.shift_peak_pressure, 0.0);  // the piston pushed: the floor drops away faster than the bed falls at first
+  EXPECT_NEAR(rb.s.front(), ra.s.front(), 1e-12);  // the piston starts where it let go, the floor moved with it
+  EXPECT_NEAR(rb.s_top, ra.s_top, 0.05);
+  EXPECT_GT(rb.s_top, 0.0);
+  EXPECT_LT(rb.s_top, o.compression_ratios[0]);
+  EXPECT_GE(rb.s_reached, 0.29);
+  EXPECT_LT(rb.mass_error, 1e-12);
+  EXPECT_GE(rb.fragments, b.fragments);
+  EXPECT_EQ(a.sweep_energy_per_kg, 0.0);
+  // A pressing with the piston sliding sideways (sweep 1): the sideways work is positive and, by Coulomb's law on each
+  // sphere's contact with the piston (rock on steel mu 0.7, Table 4), at most mu x sweep x the normal work done along
+  // the piston's path, the loading and unloading works together (2 x loading - loop).
+  o.reload_shift = 0.0, o.reloads = 0, o.sweep = 1.0;
+  const PistonDieResult swept = run_piston_die(bpm, o);
+  ASSERT_EQ(swept.loops.size(), 1u);
+  const PressLoop& c = swept.loops[0];
+  EXPECT_GT(c.sweep_energy_per_kg, 0.05 * c.energy_per_kg);
+  EXPECT_LE(c.sweep_energy_per_kg, 0.7 * 1.0 * (2.0 * c.loading_energy_per_kg - c.energy_per_kg));
+  std::printf("pushed 20 mm: reload from s %.4f (bed top %.4f), loop %.2f J/kg (unpushed %.2f); swept: loop %.2f J/kg, "
+              "sideways %.2f J/kg of at most %.2f\n", rb.s.front(), rb.s_top, rb.energy_per_kg, ra.energy_per_kg,
+              c.energy_per_kg, c.sweep_energy_per_kg, 0.7 * (2.0 * c.loading_energy_per_kg - c.energy_per_kg));
 }
 
 // A reduced die on the calibrated BPM: physically meaningful results of the DEM test.
