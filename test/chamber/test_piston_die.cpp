@@ -434,6 +434,21 @@ TEST(PistonDieRecord, LeaveOneOutFitsAreTheJackknifeOfThePooledFit) {
   EXPECT_THROW(leave_one_out_fits(rs), std::invalid_argument);  // two pourings: a leave-one-out fit pools one
 }
 
+// The reduced die of the DEM tests (seconds, not representative numbers), each bed reloaded once.
+PistonDieOptions reduced_die(const std::vector<double>& ratios) {
+  PistonDieOptions o;
+  o.die_diameter = 0.10;
+  o.rock_min = 0.028, o.rock_max = 0.032;  // the smallest the BPM's 16 mm metaparticles pack
+  o.rock_count = 18;  // two to three layers: fewer make a bed of lone towers whose pressure comes and goes
+  o.compression_ratios = ratios;
+  o.piston_speed = 0.5;
+  o.settle_max_time = 0.15;
+  o.threads = 1;
+  o.seed = 3;
+  o.reloads = 1;
+  return o;
+}
+
 TEST(PistonDie, OptionsNameWhatIsWrong) {
   PistonDieOptions o;
   o.die_diameter = 0.05;  // < 3 x 40 mm
@@ -475,16 +490,7 @@ TEST(PistonDie, OptionsNameWhatIsWrong) {
 // with a sideways sweep books the piston's sideways work within Coulomb's bound.
 TEST(PistonDie, ABedPushedDownTheDieIsReloadedWhereItLies) {
   const rocks::BpmModel bpm = rocks::load_bpm_model(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/bpm_calibrated.yaml");
-  PistonDieOptions o;
-  o.die_diameter = 0.10;
-  o.rock_min = 0.028, o.rock_max = 0.032;
-  o.rock_count = 18;
-  o.compression_ratios = {0.3};
-  o.piston_speed = 0.5;
-  o.settle_max_time = 0.15;
-  o.threads = 1;
-  o.seed = 3;
-  o.reloads = 1;
+  PistonDieOptions o = reduced_die({0.3});
   const PistonDieResult still = run_piston_die(bpm, o);
   o.reload_shift = 0.02;
   const PistonDieResult pushed = run_piston_die(bpm, o);
@@ -526,16 +532,7 @@ TEST(PistonDie, ABedPushedDownTheDieIsReloadedWhereItLies) {
 TEST(PistonDie, ReducedDieOnCalibratedRock) {
   const auto t0 = std::chrono::steady_clock::now();
   const rocks::BpmModel bpm = rocks::load_bpm_model(std::string(CRUSHER_SOURCE_DIR) + "/launch_free_configs/bpm_calibrated.yaml");
-  PistonDieOptions o;
-  o.die_diameter = 0.10;
-  o.rock_min = 0.028, o.rock_max = 0.032;  // the smallest the BPM's 16 mm metaparticles pack
-  o.rock_count = 18;  // two to three layers: fewer make a bed of lone towers whose pressure comes and goes
-  o.compression_ratios = {0.15, 0.3};
-  o.piston_speed = 0.5;
-  o.settle_max_time = 0.15;
-  o.threads = 1;
-  o.seed = 3;
-  o.reloads = 1;
+  const PistonDieOptions o = reduced_die({0.15, 0.3});
   const PistonDieResult r = run_piston_die(bpm, o);
   ASSERT_EQ(r.loops.size(), 2u);
   EXPECT_EQ(r.rocks, 18);
