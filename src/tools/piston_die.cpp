@@ -326,11 +326,9 @@ std::vector<chamber::PistonDieResult> read_pool(const Args& a, std::string& sour
 
 // Each pressing of each bed (0: the first, from the loose pour; 1, 2, ...: reloads of the same bed) as a row:
 // pouring,seed,s_max,pressing,s_start (where the piston starts: a reload starts where the last let go),s_top (where
-// the bed's highest sphere is then),
-// s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),bonds_broken (in that pressing and the push
-// before it),fragments,shift_mm (pushed down the die before it),push_MPa (the push's peak),sweep_J_kg (the piston's
-// sideways work, --sweep),passing_<sieve>mm (%);
-// printed as a table too. Their curves in `curves` (pouring,seed,s_max,pressing,phase,s,p_MPa).
+// the bed's highest sphere is then),s_reached,peak_MPa,loop_J_kg,loading_J_kg,loop_ratio (to the first's),
+// bonds_broken (in that pressing and the push before it),fragments,shift_mm (pushed down the die before it),push_MPa
+// (the push's peak),sweep_J_kg (the piston's sideways work, --sweep),passing_<sieve>mm (%); printed as a table too. Their curves in `curves` (pouring,seed,s_max,pressing,phase,s,p_MPa).
 void write_reloads(const std::string& file, const std::string& curves,
                    const std::vector<chamber::PistonDieResult>& pourings) {
   std::ofstream csv(file), cv(curves);

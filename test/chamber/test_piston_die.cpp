@@ -435,7 +435,7 @@ TEST(PistonDieRecord, LeaveOneOutFitsAreTheJackknifeOfThePooledFit) {
 }
 
 // The reduced die of the DEM tests (seconds, not representative numbers), each bed reloaded once.
-PistonDieOptions reduced_die(const std::vector<double>& ratios) {
+static PistonDieOptions reduced_die(const std::vector<double>& ratios) {
   PistonDieOptions o;
   o.die_diameter = 0.10;
   o.rock_min = 0.028, o.rock_max = 0.032;  // the smallest the BPM's 16 mm metaparticles pack
