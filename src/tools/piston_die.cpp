@@ -8,7 +8,8 @@
 // DIR/piston_die_pourings.csv (every pouring's loops: pouring,seed,loose_solid_fraction,s_max,phase,s,p_MPa),
 // DIR/piston_die_fits.csv (each pouring's own fit, the pooled one, which flow_material.yaml holds, and with three or
 // more the jackknife's: the pooled fit without each pouring, also as DIR/jackknife/flow_material_without_seed<S>.yaml,
-// which `crusher validate --rock-spread DIR` reads) and, through plot_piston_die.py, DIR/piston_die.png and DIR/psd.png.
+// which `crusher validate --rock-spread DIR` reads) and, through plot_piston_die.py, DIR/piston_die.png and DIR/psd.png
+// (with --reloads also DIR/piston_die_reloads.png).
 // With --reloads also DIR/piston_die_reloads.csv and DIR/piston_die_reload_curves.csv (write_reloads).
 #include <algorithm>
 #include <cmath>
