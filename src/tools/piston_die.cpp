@@ -74,15 +74,6 @@ constexpr const char* kUsage =
   std::exit(2);
 }
 
-// A number option's value in [lo, hi] (lo itself accepted only when lo_open is false), or the usage with `what`.
-double number(core::CliArgs& args, double lo, double hi, bool lo_open, const std::string& what) {
-  const std::string v = args.value();
-  char* end = nullptr;
-  const double x = std::strtod(v.c_str(), &end);
-  if (v.empty() || *end || !((lo_open ? x > lo : x >= lo) && x <= hi)) usage(what + ", got '" + v + "'");
-  return x;
-}
-
 Args parse(int argc, char** argv) {
   Args a;
   for (int i = 0; i < argc; ++i) a.command += (i ? " " : "") + std::string(argv[i]);
@@ -101,8 +92,7 @@ Args parse(int argc, char** argv) {
         }
       }
       else if (s == "--quick") a.quick = true;
-      else if (s == "--speed-m-s")
-        a.speed = number(args, 0.01, 20, false, "--speed-m-s is the piston's speed in m/s, a number in [0.01, 20]");
+      else if (s == "--speed-m-s") a.speed = args.number(0.01, 20, "m/s");
       else if (s == "--ratios") {
         std::stringstream list(args.value());
         for (std::string item; std::getline(list, item, ',');) {
@@ -117,13 +107,16 @@ Args parse(int argc, char** argv) {
       else if (s == "--replicates") a.replicates = static_cast<int>(args.integer(2, 100));
       else if (s == "--reloads") a.reloads = static_cast<int>(args.integer(1, 20));
       else if (s == "--shift-mm") a.shift_mm = static_cast<double>(args.integer(1, 200));
-      else if (s == "--sweep")
-        a.sweep = number(args, 0.0, 5.0, true, "--sweep is the piston's sideways / vertical speed, a number in (0, 5]");
+      else if (s == "--sweep") {  // the piston's sideways / vertical speed
+        a.sweep = args.number(0.0, 5.0);
+        if (a.sweep == 0.0) usage("--sweep 0 is the plain die: leave --sweep out (accepted (0, 5])");
+      }
       else if (s == "--threads") a.threads = static_cast<int>(args.integer(1, 256));
       else if (s == "--seed") a.seed = static_cast<unsigned long long>(args.integer(1, 1000000000));
-      else if (s == "--dt-safety")
-        a.dt_safety = number(args, 0.0, 1.0, true,
-                             "--dt-safety must be a number in (0, 1] (fraction of min(0.3 Rayleigh, bond) step)");
+      else if (s == "--dt-safety") {  // fraction of min(0.3 Rayleigh, bond) step
+        a.dt_safety = args.number(0.0, 1.0);
+        if (a.dt_safety == 0.0) usage("--dt-safety must be in (0, 1] (fraction of min(0.3 Rayleigh, bond) step), got 0");
+      }
       else if (s == "-h" || s == "--help") {
         std::printf("%s", kUsage);
         std::exit(0);
