@@ -1,6 +1,8 @@
 // Virtual piston-die test on dem::World (see piston_die.hpp).
 #include "chamber/piston_die.hpp"
 
+#include "chamber/rock_pour.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -9,61 +11,22 @@
 #include <memory>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_map>
 
 #include "core/binary_io.hpp"
 #include "dem/fragments.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/revolution.hpp"
 #include "dem/world.hpp"
-#include "rocks/packing.hpp"
 #include "rocks/rng.hpp"
-#include "rocks/shape.hpp"
 
 namespace chamber {
 namespace {
 
-constexpr int kRock = 0, kSteel = 1;  // dem::default_table4()
+constexpr int kSteel = 1;  // dem::default_table4()
 constexpr int kDieSectors = 48;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-struct FeedRock {
-  rocks::RockPacking pack;
-  double sphere_density = 0.0;  // kg/m^3
-};
-
-// One irregular rock packed with the BPM's metaparticles; like coupling::ChamberDem, a shape too small for the
-// packing density steps it down by 0.03 (to 0.30 at least) rather than fail.
-// A shape thinner than the largest metaparticle cannot be packed: such a seed is skipped for the next one.
-rocks::RockPacking pack_rock(const rocks::BpmModel& bpm, unsigned long long seed, double size) {
-  const double dmax = 2.0 * bpm.metaparticles.max_radius();
-  std::unique_ptr<rocks::PolyhedronShape> shape;
-  for (int t = 0;; ++t, seed += 1000003ULL) {
-    shape = rocks::make_irregular_rock(seed, size, 22, "rock" + std::to_string(seed));
-    if ((shape->max_corner() - shape->min_corner()).minCoeff() >= dmax) break;
-    if (t == 50)
-      throw std::invalid_argument("piston die: rock size " + std::to_string(size * 1e3) +
-                                  " mm is too small for the BPM's metaparticles (largest diameter " +
-                                  std::to_string(dmax * 1e3) + " mm); accepted rock_min >= about 1.8 x that");
-  }
-  rocks::PackingOptions po = bpm.packing;
-  po.seed = seed;
-  for (;;) {
-    try {
-      return rocks::pack_shape(*shape, bpm.metaparticles, po);
-    } catch (const std::runtime_error&) {
-      if (po.density <= 0.3 + 1e-9) throw;
-      po.density = std::max(0.3, po.density - 0.03);
-    }
-  }
-}
-
-Eigen::Quaterniond random_orientation(rocks::Rng& rng) {
-  Eigen::Quaterniond q(rng.normal(), rng.normal(), rng.normal(), rng.normal());
-  return q.normalized();
-}
 
 // Mass fraction passing each sieve (m) of the fragments over intact bonds.
 std::vector<double> fragment_passing(const dem::World& w, const std::vector<double>& sieves, double* total,
@@ -173,85 +136,22 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
       break;
     }
 
-  // ---- the feed: irregular rocks of log-uniform nominal size (section 2.4.1 shapes, BPM metaparticles)
+  // ---- loose pouring, part 1: random sequential placement in the die (rock_pour.hpp)
   rocks::Rng rng(o.seed);
-  std::vector<FeedRock> feed;
-  double rock_volume = 0.0;
-  const double fill_volume = 0.5 * res.die_area * o.bed_height;  // rock_count 0: a loose bed of ~0.5 solid
-  for (int k = 0;; ++k) {
-    if (o.rock_count > 0 ? k >= o.rock_count : rock_volume >= fill_volume) break;
-    const double size = std::exp(std::log(o.rock_min) + rng.uniform() * std::log(o.rock_max / o.rock_min));
-    FeedRock fr;
-    fr.pack = pack_rock(bpm, o.seed * 7919ULL + 17ULL * k + 1ULL, size);
-    // The rock weighs rho V of its envelope (the flow model's solid density), as feed.rock_density does.
-    fr.sphere_density = o.rock_density * fr.pack.container_volume / fr.pack.solid_volume();
-    rock_volume += fr.pack.container_volume;
-    feed.push_back(std::move(fr));
-  }
-  res.rocks = static_cast<int>(feed.size());
-
-  // ---- loose pouring, part 1: random sequential placement, each rock at the lowest free layer
   const double r_in = R * std::cos(M_PI / kDieSectors) - 1e-4;  // the facets' inscribed radius, less a margin
-  double rmax = 0.0;
-  for (const auto& f : feed)
-    for (double r : f.pack.radii) rmax = std::max(rmax, r);
-  const double cell = 2.0 * rmax;
-  auto key = [cell](const Eigen::Vector3d& x) {
-    const long long i = static_cast<long long>(std::floor(x.x() / cell)) + (1 << 20);
-    const long long j = static_cast<long long>(std::floor(x.y() / cell)) + (1 << 20);
-    const long long l = static_cast<long long>(std::floor(x.z() / cell)) + (1 << 20);
-    return (i << 42) | (j << 21) | l;
+  PourSpec spec;
+  spec.rock_count = o.rock_count;
+  spec.fill_volume = 0.5 * res.die_area * o.bed_height;  // rock_count 0: a loose bed of ~0.5 solid
+  spec.rock_min = o.rock_min, spec.rock_max = o.rock_max, spec.rock_density = o.rock_density, spec.seed = o.seed;
+  spec.sample_xy = [R](rocks::Rng& g) {
+    const double phi = 2.0 * M_PI * g.uniform(), rr = R * std::sqrt(g.uniform());
+    return Eigen::Vector2d(rr * std::cos(phi), rr * std::sin(phi));
   };
-  std::unordered_map<long long, std::vector<std::pair<Eigen::Vector3d, double>>> grid;
-  auto clear = [&](const Eigen::Vector3d& x, double r) {
-    if (x.z() < r + 1e-5 || std::hypot(x.x(), x.y()) + r > r_in) return false;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find(key(x + Eigen::Vector3d(dx, dy, dz) * cell));
-          if (it == grid.end()) continue;
-          for (const auto& [y, ry] : it->second)
-            if ((x - y).squaredNorm() < (r + ry) * (r + ry)) return false;
-        }
-    return true;
-  };
-  struct Placed {
-    std::vector<Eigen::Vector3d> x;
-  };
-  std::vector<Placed> placed(feed.size());
-  const double dz = 0.1 * o.rock_min;
-  double z_top = 0.0, z_layer0 = 0.0;
-  for (std::size_t k = 0; k < feed.size(); ++k) {
-    const auto& rk = feed[k].pack;
-    bool done = false;
-    for (double zc = z_layer0; !done; zc += dz) {
-      if (zc > 1e3 * o.die_diameter) throw std::runtime_error("piston die: cannot place rock " + std::to_string(k));
-      int misses = 0;
-      for (int t = 0; t < 40 && !done; ++t) {
-        const double phi = 2.0 * M_PI * rng.uniform(), rr = R * std::sqrt(rng.uniform());
-        const Eigen::Vector3d c(rr * std::cos(phi), rr * std::sin(phi), zc);
-        const Eigen::Quaterniond q = random_orientation(rng);
-        std::vector<Eigen::Vector3d> xs;
-        bool ok = true;
-        for (std::size_t i = 0; i < rk.size() && ok; ++i) {
-          xs.push_back(c + q * rk.positions[i]);
-          ok = clear(xs.back(), rk.radii[i]);
-        }
-        if (!ok) {
-          ++misses;
-          continue;
-        }
-        for (std::size_t i = 0; i < rk.size(); ++i) {
-          grid[key(xs[i])].emplace_back(xs[i], rk.radii[i]);
-          z_top = std::max(z_top, xs[i].z() + rk.radii[i]);
-        }
-        placed[k].x = std::move(xs);
-        done = true;
-      }
-      // layers far below the current top stay full: start later rocks higher up
-      if (!done && misses == 40 && zc + 2.0 * o.rock_max < z_top) z_layer0 = std::max(z_layer0, zc);
-    }
-  }
+  spec.inside = [r_in](const Eigen::Vector3d& x, double r) { return std::hypot(x.x(), x.y()) + r <= r_in; };
+  spec.max_height = 1e3 * o.die_diameter;
+  const std::vector<PouredRock> feed = pour_rocks(bpm, spec, rng);
+  res.rocks = static_cast<int>(feed.size());
+  const double z_top = poured_top(feed);
 
   // ---- the world
   dem::WorldParams wp;
@@ -264,18 +164,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   const double column = z_top + o.rock_max;
   Die die = make_die(wp, R, column, 0.0, o.threads);
   dem::World& w = *die.world;
-  const dem::BondParams bp = bpm.bond.params();
-  for (std::size_t k = 0; k < feed.size(); ++k) {
-    const auto& rk = feed[k].pack;
-    const std::size_t first = w.particles().size();
-    for (std::size_t i = 0; i < rk.size(); ++i) {
-      const double x[3] = {placed[k].x[i].x(), placed[k].x[i].y(), placed[k].x[i].z()};
-      w.add_particle(x, rk.radii[i], kRock, feed[k].sphere_density, nullptr, nullptr);
-    }
-    std::vector<std::pair<std::size_t, std::size_t>> pairs;
-    for (auto [i, j] : rk.bonds) pairs.emplace_back(first + i, first + j);
-    res.bonds += w.bond_pairs(pairs, bp);
-  }
+  res.bonds = add_poured_rocks(w, feed, bpm);
   res.particles = w.particles().size();
   const dem::TimeStepCheck c = w.time_step_check();
   res.dt = o.dt_safety * std::min(0.3 * c.rayleigh, c.bond);
@@ -287,28 +176,15 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
                  res.particles, res.bonds, res.dt, column * 1e3);
 
   // ---- loose pouring, part 2: settle under gravity until (nearly) at rest
-  const long chunk = std::max(1L, static_cast<long>(std::lround(2e-3 / res.dt)));
-  for (;;) {
-    w.step(chunk);
-    const double v = std::sqrt(2.0 * w.kinetic_energy() / res.rock_mass);
-    if ((w.time() >= o.settle_min_time && v < o.settle_speed) || w.time() >= o.settle_max_time) {
-      if (o.verbose)
-        std::fprintf(stderr, "piston die: settled %.3f s (rms speed %.4f m/s)\n", w.time(), v);
-      break;
-    }
-  }
+  const double v_settled = settle_world(w, res.rock_mass, o.settle_min_time, o.settle_max_time, o.settle_speed);
+  if (o.verbose) std::fprintf(stderr, "piston die: settled %.3f s (rms speed %.4f m/s)\n", w.time(), v_settled);
   res.settle_time = w.time();
   const auto& P = w.particles();
   for (std::size_t i = 0; i < P.size(); ++i) res.bed_height = std::max(res.bed_height, P.z[i] + P.r[i]);
   res.loose_solid_fraction = res.rock_mass / (res.die_area * res.bed_height * res.solid_density);
   res.feed_passing = fragment_passing(w, sieves, nullptr, nullptr);
   const std::size_t settle_breaks = w.breaks().size();
-  std::stringstream state;
-  {
-    core::BinaryWriter bw(state);
-    w.save_state(bw);
-  }
-  const std::string settled = state.str();
+  const std::string settled = world_state_bytes(w);
 
   // ---- each s_max on a copy of the settled bed: load, unload, screen; then `reloads` more pressings of the same bed
   const double H0 = res.bed_height, A = res.die_area, v = o.piston_speed;
@@ -401,9 +277,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     const double fz[3] = {0, 0, zf}, pz[3] = {0, 0, zp};
     wk.set_wall_position(d.floor, fz), wk.set_wall_position(d.piston, pz);
     wk.set_wall_velocity(d.floor, still), wk.set_wall_velocity(d.piston, still);
-    const double t_end = wk.time() + o.settle_max_time;
-    do wk.step(chunk);
-    while (std::sqrt(2.0 * wk.kinetic_energy() / res.rock_mass) >= o.settle_speed && wk.time() < t_end);
+    settle_world(wk, res.rock_mass, wk.time(), wk.time() + o.settle_max_time, o.settle_speed);
     L.shift = shift;
   };
   // A World built with the die `below` and the state in `bytes` (the pressings go on in a longer die when the bed is
@@ -420,10 +294,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     PressLoop L;
     bool blew_up = !press(*d.world, d, s_max, H0, settle_breaks, L);
     if (!blew_up && o.reloads > 0 && o.reload_shift > 0.0) {
-      std::stringstream pressed;
-      core::BinaryWriter bw(pressed);
-      d.world->save_state(bw);
-      d = die_with(o.reloads * o.reload_shift, pressed.str(), "pressed piston-die bed");
+      d = die_with(o.reloads * o.reload_shift, world_state_bytes(*d.world), "pressed piston-die bed");
     }
     dem::World& wk = *d.world;
     for (int k = 0; k < o.reloads && !blew_up; ++k) {  // the same bed again, from where the piston let go of it
