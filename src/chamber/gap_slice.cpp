@@ -90,22 +90,11 @@ GapSliceResult run_gap_slice(const rocks::BpmModel& bpm, const GapSliceOptions& 
   const std::vector<PouredRock> feed = pour_rocks(bpm, spec, rng);
   res.rocks = static_cast<int>(feed.size());
 
-  dem::WorldParams wp;
-  wp.threads = o.threads;
-  wp.materials = dem::default_table4();
-  wp.dt = 1e-7;  // set below from the particles and bonds
-  wp.check_time_step = true;
-  wp.max_overlap_fraction = o.max_overlap_fraction;
-  wp.blowup_dump_path = o.blowup_dump_path;
+  const dem::WorldParams wp = rock_world_params(o.threads, o.max_overlap_fraction, o.blowup_dump_path);
   dem::World w(wp);
   add_slice_walls(w, W, D);
-  res.bonds = add_poured_rocks(w, feed, bpm);
-  res.particles = w.particles().size();
-  const dem::TimeStepCheck c = w.time_step_check();
-  res.dt = o.dt_safety * std::min(0.3 * c.rayleigh, c.bond);
-  w.set_dt(res.dt);
-  w.require_stable_time_step();
-  for (std::size_t i = 0; i < w.particles().size(); ++i) res.rock_mass += w.particles().m[i];
+  const FilledWorld filled = fill_with_rocks(w, feed, bpm, o.dt_safety);
+  res.particles = filled.particles, res.bonds = filled.bonds, res.dt = filled.dt, res.rock_mass = filled.mass;
   if (o.verbose)
     std::fprintf(stderr, "gap slice: %d rocks, %zu particles, %zu bonds, dt %.3g s\n", res.rocks, res.particles,
                  res.bonds, res.dt);

@@ -154,23 +154,12 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   const double z_top = poured_top(feed);
 
   // ---- the world
-  dem::WorldParams wp;
-  wp.threads = o.threads;
-  wp.materials = dem::default_table4();
-  wp.dt = 1e-7;  // set below from the particles and bonds
-  wp.check_time_step = true;
-  wp.max_overlap_fraction = o.max_overlap_fraction;
-  wp.blowup_dump_path = o.blowup_dump_path;
+  const dem::WorldParams wp = rock_world_params(o.threads, o.max_overlap_fraction, o.blowup_dump_path);
   const double column = z_top + o.rock_max;
   Die die = make_die(wp, R, column, 0.0, o.threads);
   dem::World& w = *die.world;
-  res.bonds = add_poured_rocks(w, feed, bpm);
-  res.particles = w.particles().size();
-  const dem::TimeStepCheck c = w.time_step_check();
-  res.dt = o.dt_safety * std::min(0.3 * c.rayleigh, c.bond);
-  w.set_dt(res.dt);
-  w.require_stable_time_step();
-  for (std::size_t i = 0; i < w.particles().size(); ++i) res.rock_mass += w.particles().m[i];
+  const FilledWorld filled = fill_with_rocks(w, feed, bpm, o.dt_safety);
+  res.particles = filled.particles, res.bonds = filled.bonds, res.dt = filled.dt, res.rock_mass = filled.mass;
   if (o.verbose)
     std::fprintf(stderr, "piston die: %d rocks, %zu particles, %zu bonds, dt %.3g s, column %.1f mm\n", res.rocks,
                  res.particles, res.bonds, res.dt, column * 1e3);

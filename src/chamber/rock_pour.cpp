@@ -134,9 +134,21 @@ double poured_top(const std::vector<PouredRock>& rocks) {
   return top;
 }
 
-std::size_t add_poured_rocks(dem::World& w, const std::vector<PouredRock>& rocks, const rocks::BpmModel& bpm) {
+dem::WorldParams rock_world_params(int threads, double max_overlap_fraction, const std::string& blowup_dump_path) {
+  dem::WorldParams wp;
+  wp.threads = threads;
+  wp.materials = dem::default_table4();
+  wp.dt = 1e-7;  // set by fill_with_rocks from the particles and bonds
+  wp.check_time_step = true;
+  wp.max_overlap_fraction = max_overlap_fraction;
+  wp.blowup_dump_path = blowup_dump_path;
+  return wp;
+}
+
+FilledWorld fill_with_rocks(dem::World& w, const std::vector<PouredRock>& rocks, const rocks::BpmModel& bpm,
+                            double dt_safety) {
+  FilledWorld f;
   const dem::BondParams bp = bpm.bond.params();
-  std::size_t bonds = 0;
   for (const auto& rk : rocks) {
     const std::size_t first = w.particles().size();
     for (std::size_t i = 0; i < rk.pack.size(); ++i) {
@@ -145,9 +157,15 @@ std::size_t add_poured_rocks(dem::World& w, const std::vector<PouredRock>& rocks
     }
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
     for (auto [i, j] : rk.pack.bonds) pairs.emplace_back(first + i, first + j);
-    bonds += w.bond_pairs(pairs, bp);
+    f.bonds += w.bond_pairs(pairs, bp);
   }
-  return bonds;
+  f.particles = w.particles().size();
+  const dem::TimeStepCheck c = w.time_step_check();
+  f.dt = dt_safety * std::min(0.3 * c.rayleigh, c.bond);
+  w.set_dt(f.dt);
+  w.require_stable_time_step();
+  for (std::size_t i = 0; i < w.particles().size(); ++i) f.mass += w.particles().m[i];
+  return f;
 }
 
 double settle_world(dem::World& w, double mass, double t_min, double t_max, double speed) {

@@ -12,9 +12,7 @@
 #include "rocks/packing.hpp"
 #include "rocks/rng.hpp"
 
-namespace dem {
-class World;
-}
+#include "dem/world.hpp"
 
 namespace chamber {
 
@@ -40,8 +38,18 @@ struct PourSpec {
 // std::invalid_argument when a size is too small for the metaparticles; std::runtime_error when a rock finds no room.
 std::vector<PouredRock> pour_rocks(const rocks::BpmModel& bpm, const PourSpec& spec, rocks::Rng& rng);
 double poured_top(const std::vector<PouredRock>& rocks);  // m: the highest sphere's top
-// Adds the rocks' spheres (rock material 0) and their bonds (the BPM's bond law); returns the bonds made.
-std::size_t add_poured_rocks(dem::World& w, const std::vector<PouredRock>& rocks, const rocks::BpmModel& bpm);
+// The world's parameters for a pouring: Table 4's materials, the step set later by fill_with_rocks, the blow-up bound on
+// overlap / smaller radius and the blow-up dump's file ("": an unguessable name in the temporary folder).
+dem::WorldParams rock_world_params(int threads, double max_overlap_fraction, const std::string& blowup_dump_path);
+struct FilledWorld {
+  std::size_t particles = 0, bonds = 0;
+  double dt = 0.0;    // s: dt_safety x min(0.3 Rayleigh step, bond step) (the platen tests' rule)
+  double mass = 0.0;  // kg of rock
+};
+// Adds the rocks' spheres (rock material 0) and their bonds (the BPM's bond law) to a world that holds the container,
+// and sets its step.
+FilledWorld fill_with_rocks(dem::World& w, const std::vector<PouredRock>& rocks, const rocks::BpmModel& bpm,
+                            double dt_safety);
 // Steps the world in chunks of ~2 ms until, from the time t_min on, the rms speed sqrt(2 KE / mass) is below `speed`,
 // or until the time t_max; returns that rms speed.
 double settle_world(dem::World& w, double mass, double t_min, double t_max, double speed);

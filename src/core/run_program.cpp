@@ -26,12 +26,14 @@ int run_program(const std::vector<std::string>& argv) {
   return WIFSIGNALED(st) ? 128 + WTERMSIG(st) : -1;
 }
 
-std::string tool_script(const std::string& name) {
+std::string source_file(const std::string& rel) {
   namespace fs = std::filesystem;
-  for (const fs::path& p : {fs::path("src/tools") / name, fs::path(__FILE__).parent_path().parent_path() / "tools" / name})
+  for (const fs::path& p : {fs::path(rel), fs::path(__FILE__).parent_path().parent_path().parent_path() / rel})
     if (fs::exists(p)) return p.string();
   return "";
 }
+
+std::string tool_script(const std::string& name) { return source_file("src/tools/" + name); }
 
 bool run_plot_script(const std::string& tool, const std::string& script, const std::string& dir) {
   const std::string path = tool_script(script);

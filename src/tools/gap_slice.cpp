@@ -93,14 +93,8 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-std::string find_file(const std::string& rel) {
-  for (const fs::path& p : {fs::path(rel), fs::path(__FILE__).parent_path().parent_path().parent_path() / rel})
-    if (fs::exists(p)) return p.string();
-  return "";
-}
-
 std::string existing(const std::string& given, const std::string& fallback, const char* flag) {
-  const std::string file = given.empty() ? find_file(fallback) : given;
+  const std::string file = given.empty() ? core::source_file(fallback) : given;
   if (file.empty() || !fs::exists(file))
     usage(std::string(flag) + ": file '" + (file.empty() ? fallback : file) + "' not found");
   return file;

@@ -140,12 +140,6 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-std::string find_file(const std::string& rel) {
-  for (const fs::path& p : {fs::path(rel), fs::path(__FILE__).parent_path().parent_path().parent_path() / rel})
-    if (fs::exists(p)) return p.string();
-  return "";
-}
-
 std::string f(const char* fmt, double x) {
   char b[64];
   std::snprintf(b, sizeof b, fmt, x);
@@ -229,7 +223,7 @@ int run_lab(const Args& a) {
 
 // The DEM test: one pouring, or --replicates K of them (seeds a.seed ...).
 std::vector<chamber::PistonDieResult> run_dem(const Args& a, std::string& source) {
-  const std::string bpm_file = a.bpm.empty() ? find_file("launch_free_configs/bpm_calibrated.yaml") : a.bpm;
+  const std::string bpm_file = a.bpm.empty() ? core::source_file("launch_free_configs/bpm_calibrated.yaml") : a.bpm;
   if (bpm_file.empty() || !fs::exists(bpm_file))
     usage("--bpm: file '" + (bpm_file.empty() ? std::string("launch_free_configs/bpm_calibrated.yaml") : bpm_file) +
           "' not found (a bpm yaml such as launch_free_configs/bpm_calibrated.yaml)");
