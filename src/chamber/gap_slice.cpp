@@ -6,10 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 #include <stdexcept>
 
-#include "core/binary_io.hpp"
 #include "chamber/rock_pour.hpp"
 #include "dem/world.hpp"
 
@@ -19,13 +17,6 @@ namespace {
 constexpr int kSteel = 1;  // dem::default_table4()
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double highest_top(const dem::World& w) {
-  double top = 0.0;
-  const auto& P = w.particles();
-  for (std::size_t i = 0; i < P.size(); ++i) top = std::max(top, P.z[i] + P.r[i]);
-  return top;
-}
 
 double centre_of_mass_z(const dem::World& w) {
   const auto& P = w.particles();
@@ -111,11 +102,7 @@ GapSliceResult run_gap_slice(const rocks::BpmModel& bpm, const GapSliceOptions& 
   for (double f : o.frequencies) {
     dem::World wk(wp);
     const int mantle = add_slice_walls(wk, W, D);
-    {
-      std::istringstream is(settled);
-      core::BinaryReader br(is, "settled gap-slice bed");
-      wk.load_state(br);
-    }
+    load_world_state(wk, settled, "settled gap-slice bed");
     GapSliceRun run;
     run.frequency = f;
     const long steps = std::max(2L, static_cast<long>(std::lround(1.0 / (f * res.dt))));

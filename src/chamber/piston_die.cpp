@@ -9,10 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 
-#include "core/binary_io.hpp"
 #include "dem/fragments.hpp"
 #include "dem/mesh_contact.hpp"
 #include "dem/revolution.hpp"
@@ -168,8 +166,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   const double v_settled = settle_world(w, res.rock_mass, o.settle_min_time, o.settle_max_time, o.settle_speed);
   if (o.verbose) std::fprintf(stderr, "piston die: settled %.3f s (rms speed %.4f m/s)\n", w.time(), v_settled);
   res.settle_time = w.time();
-  const auto& P = w.particles();
-  for (std::size_t i = 0; i < P.size(); ++i) res.bed_height = std::max(res.bed_height, P.z[i] + P.r[i]);
+  res.bed_height = highest_top(w);
   res.loose_solid_fraction = res.rock_mass / (res.die_area * res.bed_height * res.solid_density);
   res.feed_passing = fragment_passing(w, sieves, nullptr, nullptr);
   const std::size_t settle_breaks = w.breaks().size();
@@ -188,9 +185,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
     wk.set_wall_velocity(d.piston, vdown);
     L.s_max = s_max;
     const double floor_z = wk.wall(d.floor).p[2];  // 0, or lower once the bed was pushed down the die
-    double top = floor_z;
-    for (std::size_t i = 0; i < wk.particles().size(); ++i)
-      top = std::max(top, wk.particles().z[i] + wk.particles().r[i]);
+    const double top = std::max(floor_z, highest_top(wk));
     L.s_top = (H0 - (top - floor_z)) / H0;
     L.s.push_back((H0 - (z0 - floor_z)) / H0), L.p.push_back(0.0), L.phase.push_back(0);
     int phase = 0;
@@ -273,9 +268,7 @@ PistonDieResult run_piston_die(const rocks::BpmModel& bpm, const PistonDieOption
   // pushed down: the pour and the first pressing keep the die without it, so they are those of an unshifted run).
   auto die_with = [&](double below, const std::string& bytes, const char* what) {
     Die d = make_die(wp, R, column, below, o.threads);
-    std::istringstream is(bytes);
-    core::BinaryReader br(is, what);
-    d.world->load_state(br);
+    load_world_state(*d.world, bytes, what);
     return d;
   };
   for (double s_max : o.compression_ratios) {

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -182,6 +183,19 @@ std::string world_state_bytes(dem::World& w) {
   core::BinaryWriter bw(state);
   w.save_state(bw);
   return state.str();
+}
+
+void load_world_state(dem::World& w, const std::string& bytes, const char* what) {
+  std::istringstream is(bytes);
+  core::BinaryReader br(is, what);
+  w.load_state(br);
+}
+
+double highest_top(const dem::World& w) {
+  double top = -std::numeric_limits<double>::infinity();
+  const auto& P = w.particles();
+  for (std::size_t i = 0; i < P.size(); ++i) top = std::max(top, P.z[i] + P.r[i]);
+  return top;
 }
 
 }  // namespace chamber

@@ -55,5 +55,9 @@ FilledWorld fill_with_rocks(dem::World& w, const std::vector<PouredRock>& rocks,
 double settle_world(dem::World& w, double mass, double t_min, double t_max, double speed);
 // The world's checkpoint (dem::World::save_state) as bytes: a settled or pressed bed that copies are loaded from.
 std::string world_state_bytes(dem::World& w);
+// Loads such bytes into a world built with the same walls and interactions; `what` names the state in errors.
+void load_world_state(dem::World& w, const std::string& bytes, const char* what);
+// m: the highest sphere's top (z + r) in the world; -infinity without particles.
+double highest_top(const dem::World& w);
 
 }  // namespace chamber
