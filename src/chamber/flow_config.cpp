@@ -46,6 +46,10 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
         .number("scatter.lump_std", "", 1, 0, kMaxLumpStd, [](M& m) -> double& { return m.lump_std; },
                 "relative std of one lump's share of a bed's pressure, from replicate piston-die tests (0: the "
                 "pressings do not scatter)")
+        .number("refill.length_mm", "mm", u::mm, 0, 1000, [](M& m) -> double& { return m.refill_length_m; },
+                "a released bed refills the opening gap as its rock falls, the share 1 - exp(-g t^2 / (2 d)) after t "
+                "seconds: d (0: at once, the hysteretic law; src/chamber/bed_refill.hpp)")
+        .plausible(0.5, 1000, kMetresForMm, "")
         .number("selection.s_c", "", 1, 1e-3, 10, [](M& m) -> double& { return m.breakage.s_c; },
                 "compression at which a class of size x_ref is 63 % selected")
         .number("selection.exponent", "", 1, 0.1, 10, [](M& m) -> double& { return m.breakage.m; },

@@ -66,6 +66,9 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
           "pressure.law solid_divergence is not implemented with compaction_memory: true (use false)");
   require(!m.elastic_limit || !m.solid_divergence,
           "pressure.at_limit elastic is implemented for pressure.law power only");
+  require(m.refill_length_m >= 0 && std::isfinite(m.refill_length_m), "refill.length_mm must be >= 0");
+  require(m.refill_length_m == 0 || !p.compaction_memory,
+          "refill.length_mm is a law of the hysteretic bed: use it with compaction_memory: false");
   require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
                                                            core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
@@ -117,6 +120,7 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   total_.assign(n, 0.0);
   memory_.assign(n, mbd::BedCell{});
   bed_.assign(n, mbd::CompactedBed{});
+  refill_.assign(n, BedRefill{});
   out_.assign(classes(), 0.0);
   pass_.assign(classes(), 0.0);
   scratch_.assign(classes(), 0.0);
@@ -332,6 +336,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       book_work(0.0);
       memory_[k] = mbd::BedCell{};
       bed_[k] = mbd::CompactedBed{};
+      refill_[k] = BedRefill{};
       std::fill_n(&pressed_[k * C], C, 0.0);
       continue;
     }
@@ -350,7 +355,9 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       }
     } else {
       const mbd::BedCell before = memory_[k];
-      p = mbd::bed_hysteretic(memory_[k], scale.u(e), mat.modulus_Pa, mat.exponent, mat.rebound).p;
+      p = mat.refill_length_m > 0 ? bed_refilling(memory_[k], refill_[k], scale.u(e), h, mat.modulus_Pa, mat.exponent,
+                                                  mat.rebound, mat.refill_length_m, gravity).p
+                                  : mbd::bed_hysteretic(memory_[k], scale.u(e), mat.modulus_Pa, mat.exponent, mat.rebound).p;
       if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
         const double s0 = scale.s(before.e0);
         D = scale.s(before.emax) - s0;
@@ -456,6 +463,7 @@ std::vector<double> law_fingerprint(const FlowMaterial& m) {
   std::vector<double> f;
   if (m.solid_divergence) f.push_back(-2.0);
   if (m.elastic_limit) f.push_back(-4.0);
+  if (m.refill_length_m > 0) f.insert(f.end(), {-6.0, m.refill_length_m});
   return f;
 }
 
@@ -512,6 +520,12 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
   w.tag("EXTD");  // the discharge pressed out of the nip (a file without it: another version)
   w.put(extruded_out_);
   w.put(extruded_gap_);
+  if (p_.material.refill_length_m > 0) {
+    w.tag("RFIL");
+    std::vector<double> rf;
+    for (const BedRefill& r : refill_) rf.insert(rf.end(), {double(r.open), r.released, r.low, r.t});
+    w.put_vec(rf);
+  }
 }
 
 void FlowModel::load_state(core::BinaryReader& r) {
@@ -570,6 +584,13 @@ void FlowModel::load_state(core::BinaryReader& r) {
   r.expect("EXTD");
   r.get(extruded_out_);
   r.get(extruded_gap_);
+  if (p_.material.refill_length_m > 0) {
+    r.expect("RFIL");
+    std::vector<double> rf;
+    r.get_vec(rf);
+    if (rf.size() != 4 * n) r.fail("flow model state is corrupt");
+    for (std::size_t k = 0; k < n; ++k) refill_[k] = {rf[4 * k] != 0, rf[4 * k + 1], rf[4 * k + 2], rf[4 * k + 3]};
+  }
 }
 
 }  // namespace chamber

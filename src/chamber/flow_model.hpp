@@ -24,6 +24,8 @@
 //  - Feed: choke feed; the top band takes feed of the given size distribution up to its loose capacity whenever it
 //    is free, so the feed rate is an output (effects.feed_limited: at most a feeder's rate).
 //  - Liners: new, or the concave worn over the lower chamber (effects.worn_liners, liner_wear.hpp).
+//  - Refill: with material.refill_length_m > 0, a released bed fills the opening gap only as its rock falls, so the
+//    next pressing starts where the liner meets it (bed_refill.hpp); 0: at once, from the widest gap.
 //  - Scatter: with material.lump_std > 0, each pressing of a cell has its own strength, a factor of mean 1 on the
 //    bed law's pressure whose std falls with the number of lumps the cell holds (bed_scatter.hpp).
 //  - Load: p A acts on both liners along the mantle normal (action and reaction, forces and torques); with
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "chamber/bed_compaction.hpp"
+#include "chamber/bed_refill.hpp"
 #include "chamber/bed_scatter.hpp"
 #include "chamber/breakage.hpp"
 #include "chamber/liner_friction.hpp"
@@ -53,6 +56,7 @@ struct FlowMaterial {
   double max_compression = 0.40; // compaction limit (rho0 -> rho0 / (1 - s_max)), at most the solid's (below)
   bool elastic_limit = false;    // past the limit the rock is held, elastic (bed_limit.hpp); false: pressed out
   double lump_std = 0.0;         // relative std of one lump's share of a bed's pressure (bed_scatter.hpp); 0: none
+  double refill_length_m = 0.0;  // a released bed refills the opened gap over its free fall / this (bed_refill.hpp); 0: at once
   BreakageParams breakage;
 };
 
@@ -61,7 +65,8 @@ struct FlowMaterial {
 // The rock and its breakage: density, loose fraction, pressure law, selection and progeny.
 std::vector<double> material_fingerprint(const FlowMaterial& m);
 // The laws chosen by a tag each, appended only when on, so that states written before a law existed still load:
-// -2 the diverging pressure law, -4 the rock held elastic past the limit. A new law adds its tag here.
+// -2 the diverging pressure law, -4 the rock held elastic past the limit, -6 and its length the bed's refill. A new
+// law adds its tag here.
 std::vector<double> law_fingerprint(const FlowMaterial& m);
 
 // The compaction limit of a bed: its solid density (rho0 / (1 - s) = solid density, s = 1 - loose fraction). No bed
@@ -226,6 +231,7 @@ class FlowModel {
   std::vector<double> impulse_;                                // per cell, N s
   std::vector<mbd::BedCell> memory_;     // the hysteretic law's (compaction_memory false)
   std::vector<mbd::CompactedBed> bed_;   // the compacted bed's (compaction_memory true)
+  std::vector<BedRefill> refill_;        // the released beds' refill (material.refill_length_m > 0)
   std::vector<char> closing_;       // the gap closed in the last step (the rock is held)
   std::vector<double> out_, pass_, scratch_;  // discharged per class (cumulative); scratch
   std::vector<double> cx_, cy_, cz_;  // the cells' concave points (concave liner frame)

@@ -6,6 +6,10 @@
 // Writes DIR/gap_slice.csv (rpm,cycle,work_J_kg,closing_J_kg,peak_kN,peak_kPa,top_mm,sank_mm,bonds_broken,
 // law_J_kg) and DIR/gap_slice_trace.csv (rpm,cycle,t_s,gap_mm,force_kN), plotted by plot_gap_slice.py in
 // DIR/gap_slice.png.
+//   gap_slice --fit-refill DIR1,DIR2,... --fit-rpm R1,... --out DIR [--config CFG] [--gap-mm G] [--stroke-mm S]
+// fits the refill law's length (chamber/refill_fit.hpp) to slices already run (each DIR's gap_slice.csv, one pouring
+// each): each pouring's reloads at the --fit-rpm speeds over its reloads at 400 rpm; the other speeds are predicted,
+// not fitted. Writes DIR/refill_fit.csv (pouring,rpm,measured,law,fitted) and prints refill.length_mm.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +24,7 @@
 #include "chamber/flow_config.hpp"
 #include "chamber/gap_slice.hpp"
 #include "chamber/piston_die.hpp"
+#include "chamber/refill_fit.hpp"
 #include "core/cli_args.hpp"
 #include "core/openmp_wait.hpp"
 #include "core/run_program.hpp"
@@ -37,15 +42,23 @@ struct Args {
   int cycles = 0, rocks = 0, threads = 1;
   double gap_mm = 0, depth_mm = 0, stroke_mm = 0, dt_safety = 0;  // 0: the library's defaults
   unsigned long long seed = 1;
+  std::vector<std::string> fit_dirs;  // --fit-refill: slices already run
+  std::vector<double> fit_rpm;
 };
+
+constexpr double kReferenceRpm = 400;  // the speed each pouring's reloads are divided by (the calibration's)
 
 constexpr const char* kUsage =
     "usage: gap_slice --out DIR [--bpm FILE] [--config CFG] [--quick] [--rpm R1,R2,...] [--cycles K] [--gap-mm G] "
     "[--depth-mm D] [--stroke-mm S] [--rocks N] [--seed N] [--threads N] [--dt-safety X]\n"
+    "       gap_slice --fit-refill DIR1,DIR2,... --fit-rpm R1,... --out DIR [--config CFG] [--gap-mm G] [--stroke-mm S]\n"
     "  a bed of the BPM rock between a fixed plate and one moving like the mantle, x = gap - stroke (1 - cos wt) / 2, "
     "gravity across the stroke, K cycles at each drive speed (rpm, default 400,600) on copies of one poured bed\n"
     "  --config CFG: the flow material whose shipped law (each pressing from loose) is printed beside each cycle "
     "(default launch_free_configs/gyp1200_400rpm.yaml)\n"
+    "  --fit-refill DIR1,DIR2,... --fit-rpm R1,...: no DEM; fits the flow model's refill length (flow.material.refill."
+    "length_mm) to those slices' reloads at R1,... over their reloads at 400 rpm, with the --config's material and "
+    "the slices' --gap-mm and --stroke-mm (default 120 and 15)\n"
     "  --quick: a small slice (16 rocks of 28-32 mm, gap and depth 80 mm, 2 cycles): seconds-to-minutes, the numbers "
     "not representative\n";
 
@@ -65,6 +78,14 @@ Args parse(int argc, char** argv) {
       else if (s == "--bpm") a.bpm = args.value();
       else if (s == "--config") a.config = args.value();
       else if (s == "--quick") a.quick = true;
+      else if (s == "--fit-refill") {
+        std::stringstream list(args.value());
+        for (std::string item; std::getline(list, item, ',');) a.fit_dirs.push_back(item);
+      } else if (s == "--fit-rpm") {
+        std::stringstream list(args.value());
+        for (std::string item; std::getline(list, item, ',');)
+          a.fit_rpm.push_back(core::parse_number("--fit-rpm", item, 1, 3000, "rpm"));
+      }
       else if (s == "--rpm") {
         std::stringstream list(args.value());
         for (std::string item; std::getline(list, item, ',');) a.rpm.push_back(core::parse_number("--rpm", item, 1, 3000, "rpm"));
@@ -82,7 +103,7 @@ Args parse(int argc, char** argv) {
         std::printf("%s", kUsage);
         std::exit(0);
       } else {
-        usage("unknown argument '" + s + "' (accepted: --out, --bpm, --config, --quick, --rpm, --cycles, --gap-mm, "
+        usage("unknown argument '" + s + "' (accepted: --out, --bpm, --config, --quick, --fit-refill, --fit-rpm, --rpm, --cycles, --gap-mm, "
               "--depth-mm, --stroke-mm, --rocks, --seed, --threads, --dt-safety)");
       }
     }
@@ -90,6 +111,9 @@ Args parse(int argc, char** argv) {
     usage(e.what());
   }
   if (a.out.empty()) usage("--out DIR is required");
+  if (a.fit_dirs.empty() != a.fit_rpm.empty()) usage("--fit-refill and --fit-rpm go together");
+  for (double r : a.fit_rpm)
+    if (r == kReferenceRpm) usage("--fit-rpm: 400 rpm is the reference the other speeds are divided by; name others");
   return a;
 }
 
@@ -100,12 +124,97 @@ std::string existing(const std::string& given, const std::string& fallback, cons
   return file;
 }
 
+// Each pouring's mean reload (cycles 2 on) per speed, from DIR/gap_slice.csv.
+std::vector<chamber::SliceReload> read_reloads(const std::vector<std::string>& dirs) {
+  std::vector<chamber::SliceReload> out;
+  for (std::size_t i = 0; i < dirs.size(); ++i) {
+    const std::string file = dirs[i] + "/gap_slice.csv";
+    std::ifstream in(file);
+    if (!in) usage("--fit-refill: " + file + " not found (a folder written by gap_slice)");
+    std::string line;
+    std::getline(in, line);
+    if (line.rfind("rpm,cycle,work_J_kg", 0) != 0) usage("--fit-refill: " + file + " is not a gap_slice.csv");
+    std::vector<std::pair<double, std::pair<double, int>>> by_rpm;  // rpm, (sum, n) of its reloads
+    while (std::getline(in, line)) {
+      double rpm = 0, work = 0;
+      int cycle = 0;
+      if (std::sscanf(line.c_str(), "%lf,%d,%lf", &rpm, &cycle, &work) != 3) usage("--fit-refill: bad line in " + file + ": " + line);
+      if (cycle < 2) continue;
+      auto it = std::find_if(by_rpm.begin(), by_rpm.end(), [&](const auto& e) { return e.first == rpm; });
+      if (it == by_rpm.end()) by_rpm.push_back({rpm, {0.0, 0}}), it = by_rpm.end() - 1;
+      it->second.first += work, it->second.second += 1;
+    }
+    for (const auto& e : by_rpm) out.push_back({static_cast<int>(i), e.first, e.second.first / e.second.second});
+  }
+  return out;
+}
+
+int fit_refill(const Args& a, const chamber::FlowMaterial& mat) {
+  const double gap = a.gap_mm > 0 ? a.gap_mm * 1e-3 : chamber::GapSliceOptions{}.gap;
+  const double stroke = a.stroke_mm > 0 ? a.stroke_mm * 1e-3 : chamber::GapSliceOptions{}.stroke;
+  constexpr int kCycles = 5;
+  constexpr double kGravity = 9.81;
+  const std::vector<chamber::SliceReload> data = read_reloads(a.fit_dirs);
+  const chamber::RefillFit fit = chamber::fit_refill_length(mat, gap, stroke, kCycles, kGravity, data, kReferenceRpm, a.fit_rpm);
+  chamber::FlowMaterial law = mat;
+  law.refill_length_m = fit.length_m;
+  fs::create_directories(a.out);
+  std::ofstream csv(a.out + "/refill_fit.csv");
+  csv << "pouring,rpm,measured,law,fitted\n";
+  std::printf("refill law fitted to %d reload ratios (speeds %s over %.0f rpm; gap %.0f mm, stroke %.1f mm): "
+              "refill.length_mm %.4g, rms of ln(measured / law) %.3f\n", fit.ratios, [&] {
+                std::string r;
+                for (double x : a.fit_rpm) r += (r.empty() ? "" : ",") + core::format_number(x);
+                return r;
+              }().c_str(), kReferenceRpm, gap * 1e3, stroke * 1e3, fit.length_m * 1e3, fit.rms_log);
+  std::printf("%-40s %6s %9s %9s %s\n", "pouring", "rpm", "measured", "law", "");
+  for (const auto& d : data) {
+    if (d.rpm == kReferenceRpm) continue;
+    const auto ref = std::find_if(data.begin(), data.end(),
+                                  [&](const auto& e) { return e.pouring == d.pouring && e.rpm == kReferenceRpm; });
+    if (ref == data.end()) continue;
+    const double measured = d.reload_J_kg / ref->reload_J_kg;
+    const double predicted = chamber::refill_reload_ratio(law, gap, stroke, kCycles, kGravity, d.rpm, kReferenceRpm);
+    const bool fitted = std::find(a.fit_rpm.begin(), a.fit_rpm.end(), d.rpm) != a.fit_rpm.end();
+    std::printf("%-40s %6.0f %9.3f %9.3f %s\n", a.fit_dirs[d.pouring].c_str(), d.rpm, measured, predicted,
+                fitted ? "fitted" : "predicted");
+    csv << a.fit_dirs[d.pouring] << "," << d.rpm << "," << measured << "," << predicted << "," << (fitted ? 1 : 0) << "\n";
+  }
+  // each pouring alone: the spread of its length is the rock's sampling
+  std::vector<double> own;
+  for (std::size_t i = 0; i < a.fit_dirs.size(); ++i) {
+    std::vector<chamber::SliceReload> one;
+    for (const auto& d : data)
+      if (d.pouring == static_cast<int>(i)) one.push_back(d);
+    try {
+      own.push_back(chamber::fit_refill_length(mat, gap, stroke, kCycles, kGravity, one, kReferenceRpm, a.fit_rpm).length_m);
+      std::printf("%-40s alone: refill.length_mm %.4g\n", a.fit_dirs[i].c_str(), own.back() * 1e3);
+    } catch (const std::invalid_argument&) {
+      std::printf("%-40s alone: no fitted speed beside %.0f rpm\n", a.fit_dirs[i].c_str(), kReferenceRpm);
+    }
+  }
+  if (own.size() > 1) {
+    double mean = 0, var = 0;
+    for (double d : own) mean += d / own.size();
+    for (double d : own) var += (d - mean) * (d - mean) / (own.size() - 1);
+    std::printf("pourings alone: mean %.4g mm, std %.4g mm, standard error %.4g mm (%zu pourings)\n", mean * 1e3,
+                std::sqrt(var) * 1e3, std::sqrt(var / own.size()) * 1e3, own.size());
+  }
+  csv.close();
+  if (!csv) throw std::runtime_error("writing " + a.out + "/refill_fit.csv failed");
+  std::printf("wrote %s/refill_fit.csv\n", a.out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   core::prefer_passive_openmp_wait(argv);  // the DEM's threads sleep while they wait (a shared machine)
   const Args a = parse(argc, argv);
   try {
+    if (!a.fit_dirs.empty())
+      return fit_refill(a, chamber::load_flow_run_config(existing(a.config, "launch_free_configs/gyp1200_400rpm.yaml",
+                                                                  "--config")).flow.material);
     const rocks::BpmModel bpm =
         rocks::load_bpm_model(existing(a.bpm, "launch_free_configs/bpm_calibrated.yaml", "--bpm"));
     const chamber::FlowMaterial mat =

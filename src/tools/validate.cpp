@@ -359,6 +359,9 @@ int main(int argc, char** argv) {
                         std::string(m.section) + ".effects." + m.name + " (" + m.test + ")");
     laws.emplace_back(cfg.flow.material.solid_divergence,
                       "flow.material.pressure.law solid_divergence (test/chamber/test_flow_model.cpp, test_piston_die.cpp)");
+    laws.emplace_back(cfg.flow.material.refill_length_m > 0,
+                      "flow.material.refill.length_mm " + core::format_number(cfg.flow.material.refill_length_m * 1e3) +
+                          " (test/chamber/test_bed_refill.cpp; the gap slice's reloads, `crusher gap-slice --fit-refill`)");
     bool first_law = true;
     for (const auto& [on, law] : laws)
       if (on) j << (first_law ? "" : ", ") << "\"" << law << "\"", first_law = false;
