@@ -139,6 +139,7 @@ SpreadCase run_spread_case(const std::string& file, chamber::FlowRunConfig cfg4,
   chamber::FlowMaterial m = chamber::load_flow_material(file);
   m.lump_std = cfg4.flow.material.lump_std;  // the scatter as the shipped config has it (off or on)
   m.elastic_limit = cfg4.flow.material.elastic_limit;  // the law past the limit as the config has it (not the die's)
+  m.refill_length_m = cfg4.flow.material.refill_length_m;  // the refill, from the gap slice, not the die
   cfg4.flow.material = m, cfg6.flow.material = m;
   SpreadCase c;
   c.file = file;

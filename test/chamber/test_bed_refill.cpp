@@ -145,7 +145,8 @@ TEST(BedRefill, TheFitRecoversTheLengthThatMadeTheSlicesReloads) {
 }
 
 // In the flow model: a run with the refill law resumes bit for bit through a checkpoint (its state saved), books less
-// crushing work than refilling at once on the same path, and the law's key is read and checked by name.
+// crushing work than refilling at once on the same path, and a bad length is refused by name (the config key itself:
+// test_config_schema.cpp's checks of every key).
 TEST(BedRefill, TheFlowModelsRefillingBedResumesBitForBitAndPressesLess) {
   const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
   chamber::FlowParams p;
