@@ -35,8 +35,10 @@ inline double refill_origin(const BedRefill& r, double length_m, double gravity)
 
 // The hysteretic bed that refills as its rock falls: the pressure at compaction u after a step of h seconds. While
 // released, the liner touches nothing until u reaches the refilled bed's origin; a release starts the clock.
+// length_m 0: the hysteretic law itself (r untouched).
 inline mbd::BedPressure bed_refilling(mbd::BedCell& c, BedRefill& r, double u, double h, double E, double n,
                                       double rebound, double length_m, double gravity) {
+  if (length_m <= 0) return mbd::bed_hysteretic(c, u, E, n, rebound);
   if (r.open) {
     r.t += h;
     r.low = std::min(r.low, u);

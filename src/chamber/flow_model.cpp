@@ -355,9 +355,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       }
     } else {
       const mbd::BedCell before = memory_[k];
-      p = mat.refill_length_m > 0 ? bed_refilling(memory_[k], refill_[k], scale.u(e), h, mat.modulus_Pa, mat.exponent,
-                                                  mat.rebound, mat.refill_length_m, gravity).p
-                                  : mbd::bed_hysteretic(memory_[k], scale.u(e), mat.modulus_Pa, mat.exponent, mat.rebound).p;
+      p = bed_refilling(memory_[k], refill_[k], scale.u(e), h, mat.modulus_Pa, mat.exponent, mat.rebound,
+                        mat.refill_length_m, gravity).p;
       if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
         const double s0 = scale.s(before.e0);
         D = scale.s(before.emax) - s0;

@@ -25,10 +25,8 @@ std::vector<double> refill_slice_work(const FlowMaterial& m, double gap, double 
       const double t = (double(c) * steps_per_cycle + i) * h;
       const double s = stroke * (1.0 - std::cos(2.0 * pi * frequency_hz * t)) / (2.0 * gap);  // 1 - x / gap
       const double u = scale.u(s);
-      const double p = m.refill_length_m > 0
-                           ? bed_refilling(cell, refill, u, h, m.modulus_Pa, m.exponent, m.rebound, m.refill_length_m,
-                                           gravity).p
-                           : mbd::bed_hysteretic(cell, u, m.modulus_Pa, m.exponent, m.rebound).p;
+      const double p =
+          bed_refilling(cell, refill, u, h, m.modulus_Pa, m.exponent, m.rebound, m.refill_length_m, gravity).p;
       work[static_cast<std::size_t>(c)] += 0.5 * (p + p_before) * (s - s_before);
       s_before = s, p_before = p;
     }
