@@ -35,8 +35,10 @@ std::vector<double> refill_slice_work(const FlowMaterial& m, double gap, double 
 }
 
 namespace {
-double mean_reload(const std::vector<double>& w) {
-  if (w.size() < 2) return w.empty() ? 0.0 : w[0];
+// The law's mean reload (cycles 2 on) at rpm, J/kg.
+double mean_reload(const FlowMaterial& m, double gap, double stroke, int cycles, double gravity, double rpm) {
+  const std::vector<double> w = refill_slice_work(m, gap, stroke, rpm / 60.0, cycles, gravity);
+  if (w.size() < 2) return w[0];
   double sum = 0;
   for (std::size_t i = 1; i < w.size(); ++i) sum += w[i];
   return sum / double(w.size() - 1);
@@ -45,9 +47,7 @@ double mean_reload(const std::vector<double>& w) {
 
 double refill_reload_ratio(const FlowMaterial& m, double gap, double stroke, int cycles, double gravity, double rpm,
                            double reference_rpm) {
-  const double a = mean_reload(refill_slice_work(m, gap, stroke, rpm / 60.0, cycles, gravity));
-  const double b = mean_reload(refill_slice_work(m, gap, stroke, reference_rpm / 60.0, cycles, gravity));
-  return a / b;
+  return mean_reload(m, gap, stroke, cycles, gravity, rpm) / mean_reload(m, gap, stroke, cycles, gravity, reference_rpm);
 }
 
 RefillFit fit_refill_length(const FlowMaterial& m, double gap, double stroke, int cycles, double gravity,
@@ -70,11 +70,14 @@ RefillFit fit_refill_length(const FlowMaterial& m, double gap, double stroke, in
     l.refill_length_m = d;
     return refill_reload_ratio(l, gap, stroke, cycles, gravity, rpm, reference_rpm);
   };
-  auto cost = [&](double d) {
+  auto cost = [&](double d) {  // the law's reload at the reference speed once, then at each fitted speed once
+    FlowMaterial l = m;
+    l.refill_length_m = d;
+    const double reference_reload = mean_reload(l, gap, stroke, cycles, gravity, reference_rpm);
     std::map<double, double> at;  // the law's ratio per speed
     double sum = 0;
     for (const auto& r : ratios) {
-      if (!at.count(r.first)) at[r.first] = law(d, r.first);
+      if (!at.count(r.first)) at[r.first] = mean_reload(l, gap, stroke, cycles, gravity, r.first) / reference_reload;
       const double e = std::log(r.second / at[r.first]);
       sum += e * e;
     }

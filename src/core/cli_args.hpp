@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace core {
 
@@ -54,6 +56,18 @@ class CliArgs {
   long integer(long lo, long hi) {               // the flag's value as a whole number in [lo, hi]
     const std::string f = flag();
     return parse_integer(f, value(), lo, hi);
+  }
+  std::vector<std::string> list() {              // the flag's value split at commas
+    std::vector<std::string> items;
+    std::stringstream text(value());
+    for (std::string item; std::getline(text, item, ',');) items.push_back(item);
+    return items;
+  }
+  std::vector<double> numbers(double lo, double hi, const std::string& unit = "") {  // a comma list, each in [lo, hi]
+    const std::string f = flag();
+    std::vector<double> xs;
+    for (const std::string& item : list()) xs.push_back(parse_number(f, item, lo, hi, unit));
+    return xs;
   }
 
  private:

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,9 @@ constexpr const char* kUsage =
   std::exit(2);
 }
 
+template <class T>
+void append(std::vector<T>& to, const std::vector<T>& items) { to.insert(to.end(), items.begin(), items.end()); }
+
 Args parse(int argc, char** argv) {
   Args a;
   for (int i = 0; i < argc; ++i) a.command += (i ? " " : "") + std::string(argv[i]);
@@ -78,18 +82,10 @@ Args parse(int argc, char** argv) {
       else if (s == "--bpm") a.bpm = args.value();
       else if (s == "--config") a.config = args.value();
       else if (s == "--quick") a.quick = true;
-      else if (s == "--fit-refill") {
-        std::stringstream list(args.value());
-        for (std::string item; std::getline(list, item, ',');) a.fit_dirs.push_back(item);
-      } else if (s == "--fit-rpm") {
-        std::stringstream list(args.value());
-        for (std::string item; std::getline(list, item, ',');)
-          a.fit_rpm.push_back(core::parse_number("--fit-rpm", item, 1, 3000, "rpm"));
-      }
-      else if (s == "--rpm") {
-        std::stringstream list(args.value());
-        for (std::string item; std::getline(list, item, ',');) a.rpm.push_back(core::parse_number("--rpm", item, 1, 3000, "rpm"));
-      } else if (s == "--cycles") a.cycles = static_cast<int>(args.integer(1, 100));
+      else if (s == "--fit-refill") append(a.fit_dirs, args.list());  // (a repeated flag adds to the list)
+      else if (s == "--fit-rpm") append(a.fit_rpm, args.numbers(1, 3000, "rpm"));
+      else if (s == "--rpm") append(a.rpm, args.numbers(1, 3000, "rpm"));
+      else if (s == "--cycles") a.cycles = static_cast<int>(args.integer(1, 100));
       else if (s == "--gap-mm") a.gap_mm = args.number(20, 1000, "mm");
       else if (s == "--depth-mm") a.depth_mm = args.number(20, 1000, "mm");
       else if (s == "--stroke-mm") a.stroke_mm = args.number(0.1, 500, "mm");
@@ -168,13 +164,16 @@ int fit_refill(const Args& a, const chamber::FlowMaterial& mat) {
                 return r;
               }().c_str(), kReferenceRpm, gap * 1e3, stroke * 1e3, fit.length_m * 1e3, fit.rms_log);
   std::printf("%-40s %6s %9s %9s %s\n", "pouring", "rpm", "measured", "law", "");
+  std::map<double, double> predicted_at;  // the law's ratio per speed, each computed once
   for (const auto& d : data) {
     if (d.rpm == kReferenceRpm) continue;
     const auto ref = std::find_if(data.begin(), data.end(),
                                   [&](const auto& e) { return e.pouring == d.pouring && e.rpm == kReferenceRpm; });
     if (ref == data.end()) continue;
     const double measured = d.reload_J_kg / ref->reload_J_kg;
-    const double predicted = chamber::refill_reload_ratio(law, gap, stroke, kCycles, kGravity, d.rpm, kReferenceRpm);
+    if (!predicted_at.count(d.rpm))
+      predicted_at[d.rpm] = chamber::refill_reload_ratio(law, gap, stroke, kCycles, kGravity, d.rpm, kReferenceRpm);
+    const double predicted = predicted_at[d.rpm];
     const bool fitted = std::find(a.fit_rpm.begin(), a.fit_rpm.end(), d.rpm) != a.fit_rpm.end();
     std::printf("%-40s %6.0f %9.3f %9.3f %s\n", a.fit_dirs[d.pouring].c_str(), d.rpm, measured, predicted,
                 fitted ? "fitted" : "predicted");
