@@ -49,7 +49,7 @@ inline mbd::BedPressure bed_refilling(mbd::BedCell& c, BedRefill& r, double u, d
   }
   const mbd::BedCell before = c;
   const mbd::BedPressure p = mbd::bed_hysteretic(c, u, E, n, rebound);
-  if (before.emax > before.e0 && c.e0 == c.emax)  // released in this step, where the unloading branch reached 0
+  if (mbd::bed_loop_ended(before, c))  // released in this step, where the unloading branch reached 0
     r = {true, before.emax - rebound * (before.emax - before.e0), u, 0.0};
   return p;
 }

@@ -357,7 +357,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       const mbd::BedCell before = memory_[k];
       p = bed_refilling(memory_[k], refill_[k], scale.u(e), h, mat.modulus_Pa, mat.exponent, mat.rebound,
                         mat.refill_length_m, gravity).p;
-      if (before.emax > before.e0 && memory_[k].e0 == memory_[k].emax) {
+      if (mbd::bed_loop_ended(before, memory_[k])) {
         const double s0 = scale.s(before.e0);
         D = scale.s(before.emax) - s0;
         fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - s0));

@@ -42,6 +42,12 @@ inline BedPressure bed_hysteretic(BedCell& c, double e, double E, double n, doub
   return {p, p * (e - er) / (n + 1.0)};
 }
 
+// Whether the step from `before` to `after` ended a loop of bed_hysteretic: a compression had started and the
+// unloading branch reached 0 (the gap opened past the rebound), so the memory was reset.
+inline bool bed_loop_ended(const BedCell& before, const BedCell& after) {
+  return before.emax > before.e0 && after.e0 == after.emax;
+}
+
 // Memory of the rock in one flow-model cell (chamber/flow_model.hpp): the compaction c, measured from the loose
 // pour, that it has been pressed to since it was poured; c at the start of the present pressing; whether pressed.
 struct CompactedBed {
