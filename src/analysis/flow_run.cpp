@@ -96,7 +96,7 @@ FlowRunResult run_flow(const mbd::MechanismParams& mech, const chamber::FlowPara
       band.gap_min_m = std::min(band.gap_min_m, fm.cell_gap(k));
       band.gap_max_m = std::max(band.gap_max_m, fm.cell_gap(k));
       band.kg += fm.cell_mass(k);
-      cap += fm.loose_density() * fm.cell_area(k) * fm.cell_gap(k);
+      cap += fm.cell_loose_density(k) * fm.cell_area(k) * fm.cell_gap(k);
       band.nipped += fm.cell_pressure(k) > 0 ? 1.0 / fm.sectors() : 0.0;
       band.compressions += fm.cell_compressions(k) * fm.cell_mass(k);
     }

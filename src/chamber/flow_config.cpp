@@ -50,6 +50,17 @@ const core::Schema<FlowMaterial>& flow_material_schema() {
                 "a released bed refills the opening gap as its rock falls, the share 1 - exp(-g t^2 / (2 d)) after t "
                 "seconds: d (0: at once, the hysteretic law; src/chamber/bed_refill.hpp)")
         .plausible(0.5, 1000, kMetresForMm, "")
+        .number("packing.compaction_index", "", 1, 0, 20, [](M& m) -> double& { return m.packing_index; },
+                "the mixture's packing: compaction index K of de Larrard's packing model (4.1: a simple pour; 0: one "
+                "loose fraction for every size mixture; src/chamber/mixture_packing.hpp)")
+        .number("packing.reference_min_mm", "mm", u::mm, 0.01, 1000,
+                [](M& m) -> double& { return m.packing_ref_min_m; },
+                "smallest size of the bed that packs to loose_solid_fraction (the piston die's rocks)")
+        .plausible(0.1, 1000, kMetresForMm, "")
+        .number("packing.reference_max_mm", "mm", u::mm, 0.01, 1000,
+                [](M& m) -> double& { return m.packing_ref_max_m; },
+                "largest size of the bed that packs to loose_solid_fraction (the piston die's rocks)")
+        .plausible(0.1, 1000, kMetresForMm, "")
         .number("selection.s_c", "", 1, 1e-3, 10, [](M& m) -> double& { return m.breakage.s_c; },
                 "compression at which a class of size x_ref is 63 % selected")
         .number("selection.exponent", "", 1, 0.1, 10, [](M& m) -> double& { return m.breakage.m; },

@@ -69,6 +69,12 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   require(m.refill_length_m >= 0 && std::isfinite(m.refill_length_m), "refill.length_mm must be >= 0");
   require(m.refill_length_m == 0 || !p.compaction_memory,
           "refill.length_mm is a law of the hysteretic bed: use it with compaction_memory: false");
+  require(m.packing_index >= 0 && std::isfinite(m.packing_index), "packing.compaction_index must be >= 0");
+  require(m.packing_index == 0 || (!m.solid_divergence && !p.compaction_memory),
+          "packing.compaction_index (the mixture's packing) is implemented for pressure.law power with "
+          "compaction_memory: false");
+  require(m.packing_index == 0 || (m.packing_ref_min_m > 0 && m.packing_ref_max_m > m.packing_ref_min_m),
+          "packing.reference_min_mm and reference_max_mm need 0 < min < max");
   require(m.lump_std >= 0 && m.lump_std <= kMaxLumpStd, "scatter.lump_std must be in [0, " +
                                                            core::format_number(kMaxLumpStd) + "]");
   require(p.feed_passing.size() == p.sieves_m.size(), "feed_passing needs one value per sieve");
@@ -119,6 +125,17 @@ FlowModel::FlowModel(const FlowParams& p, const core::Profile& mantle, const cor
   pressed_out_.assign(classes(), 0.0);
   total_.assign(n, 0.0);
   memory_.assign(n, mbd::BedCell{});
+  loose_rho_.assign(n, rho0_);
+  s_max_.assign(n, m.max_compression);
+  mixed_.assign(n, 0);
+  if (m.packing_index > 0) {
+    std::vector<double> sizes, lower, upper;
+    for (std::size_t j = 0; j < classes(); ++j)
+      sizes.push_back(breakage_.size(j)), lower.push_back(breakage_.lower(j)), upper.push_back(breakage_.upper(j));
+    const std::vector<double> ref = even_size_mixture(lower, upper, m.packing_ref_min_m, m.packing_ref_max_m);
+    packing_ = std::make_shared<const MixturePacking>(
+        sizes, MixturePacking::beta_for(sizes, m.packing_index, ref, m.loose_fraction), m.packing_index);
+  }
   bed_.assign(n, mbd::CompactedBed{});
   refill_.assign(n, BedRefill{});
   out_.assign(classes(), 0.0);
@@ -142,6 +159,31 @@ void FlowModel::locate_cells(const Eigen::Isometry3d& T) {
 
 Eigen::Vector3d FlowModel::cell_point(std::size_t k) const {
   return cells_.point(k / p_.sectors, k % p_.sectors);
+}
+
+// The cells whose rock changed since: the loose density of their mixture and their compaction limit (the solid's),
+// solved from the cell's last; an empty cell takes the reference bed's.
+void FlowModel::refresh_packing() {
+  if (!packing_) return;
+  const auto& m = p_.material;
+  for (std::size_t k = 0; k < cells(); ++k) {
+    if (total_[k] <= 0) {
+      loose_rho_[k] = rho0_, s_max_[k] = m.max_compression, mixed_[k] = 0;
+      continue;
+    }
+    if (!mixed_[k]) continue;
+    mixed_[k] = 0;
+    const double phi = packing_->fraction(&mass_[k * classes()], loose_rho_[k] / m.solid_density);
+    loose_rho_[k] = phi * m.solid_density;
+    s_max_[k] = std::min(m.max_compression, solid_compaction_limit(phi));
+  }
+}
+
+// The locked layer's stiffness at cell k's compaction limit (bed_limit.hpp).
+double FlowModel::locked_stiffness(std::size_t k) const {
+  if (!packing_) return locked_stiffness_;
+  const auto& m = p_.material;
+  return locked_bed_stiffness(m.exponent, m.rebound, s_max_[k], m.modulus_Pa * std::pow(s_max_[k], m.exponent));
 }
 
 double FlowModel::sum_classes(std::size_t k) const {
@@ -192,6 +234,7 @@ void FlowModel::add(std::size_t k, const double* share, double scale, bool keep_
   double kg = 0;
   for (std::size_t j = 0; j < classes(); ++j) c[j] += scale * share[j], kg += scale * share[j];
   total_[k] = sum_classes(k);
+  mixed_[k] = 1;
   mbd::mix_compaction(bed_[k], m, kg, 0.0);  // fresh rock is loose
   if (m + kg > 0) {
     count_[k] *= m / (m + kg);
@@ -210,6 +253,7 @@ void FlowModel::move(std::size_t from, double* to, double kg, const double* clas
     to[j] += d;
   }
   total_[from] = sum_classes(from);
+  mixed_[from] = 1;
   *to_count += kg * count_[from];
 }
 
@@ -254,6 +298,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     mbd::mix_compaction(bed_[below], mb, kg, c_moved);
     for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
     total_[below] = sum_classes(below);
+    mixed_[below] = 1;
     count_[below] = (mb * count_[below] + kg_count) / (mb + kg);
     if (pressed_out)  // it has had the pressing it joins below (its cycle's), until that cell releases its rock
       for (std::size_t j = 0; j < C; ++j) pressed_[below * C + j] += scratch_[j];
@@ -282,19 +327,22 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       pressed[j] -= pressed_out_[j];
     }
     total_[k] = sum_classes(k);
+    mixed_[k] = 1;
+    const double s_max = s_max_[k];
     double D, fresh;
     if (p_.compaction_memory) {
       const double from = bed_[k].pressed ? bed_[k].c_start : bed_[k].c;
-      D = mat.max_compression - from;
-      fresh = break_fresh(scratch_.data(), pressed_out_.data(), from, mat.max_compression);
+      D = s_max - from;
+      fresh = break_fresh(scratch_.data(), pressed_out_.data(), from, s_max);
     } else {
-      const double e0 = std::min(scale.s(memory_[k].e0), mat.max_compression);
-      D = mat.max_compression - e0;
+      const double e0 = std::min(scale.s(memory_[k].e0), s_max);
+      D = s_max - e0;
       fresh = break_fresh(scratch_.data(), pressed_out_.data(), 0.0, D / (1.0 - e0));
     }
-    deliver(k, kg, kg * (count_[k] + (D >= kCountedCompression ? fresh : 0.0)), mat.max_compression, true);
+    deliver(k, kg, kg * (count_[k] + (D >= kCountedCompression ? fresh : 0.0)), s_max, true);
   };
   locate_cells(concave_to_mantle);
+  refresh_packing();
   for (std::size_t k = 0; k < cells(); ++k) {
     const std::size_t b = k / S;
     // The cell's point on the concave, its gap to the mantle along the mantle's normal there.
@@ -307,12 +355,12 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     closing_[k] = prefilled_ && g < g_before;  // Evertsson: rock is held while the gap closes on it
     gap_[k] = g;
     pressure_[k] = 0;
-    const double cap = cells_.area[b] * g * rho0_;  // loose mass the cell's space holds
+    const double cap = cells_.area[b] * g * loose_rho_[k];  // loose mass the cell's space holds
     if (!prefilled_ && p_.prefill) fill(k, cap);
     double m = total_[k];
     // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below, broken as by the
     // pressing that took it to the limit (the event the rock left behind completes later with the same ratio).
-    const double m_max = cap / (1.0 - mat.max_compression);
+    const double m_max = cap / (1.0 - s_max_[k]);
     const bool extruded = m > m_max && !mat.elastic_limit;
     const double locked_strain = m > m_max && mat.elastic_limit ? 1.0 - m_max / m : 0.0;  // bed_limit.hpp
     if (extruded) {
@@ -340,7 +388,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       std::fill_n(&pressed_[k * C], C, 0.0);
       continue;
     }
-    double e = std::clamp(1.0 - cap / m, 0.0, mat.max_compression);
+    double e = std::clamp(1.0 - cap / m, 0.0, s_max_[k]);
     if (e < 1e-9) e = 0;  // a cell filled to its loose capacity carries no load (round-off would hold it)
     // A compression event ends when the liner leaves the rock. With memory it took the rock from the compaction it had
     // (c_start) on to c and selects by the hazard's rise between them (a reload within c breaks nothing); without,
@@ -363,7 +411,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
         fresh = break_fresh(&mass_[k * C], &pressed_[k * C], 0.0, D / (1.0 - s0));
       }
     }
-    p += locked_bed_pressure(locked_strain, locked_stiffness_);
+    p += locked_bed_pressure(locked_strain, locked_strain > 0 ? locked_stiffness(k) : 0.0);
     p *= squeeze;
     if (mat.lump_std > 0) {  // a new pressing meets its rock as it lies now: its own strength
       if (p_before <= 0 && p > 0)
@@ -372,6 +420,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     }
     if (D > 0) {
       total_[k] = sum_classes(k);
+      mixed_[k] = 1;
       if (D >= kCountedCompression) count_[k] += fresh, ++events_;
     }
     pressure_[k] = p;
@@ -402,7 +451,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
   // Rock at the compaction limit does not compact further: what was pressed into a cell below that this step had left at
   // its limit goes on down in the same step, as far as a cell with room (or out), not one band per step.
   for (std::size_t k = mat.elastic_limit ? 0 : cells(); k-- > 0;) {  // (held rock is not pressed out)
-    const double over = total_[k] - cells_.area[k / S] * gap_[k] * rho0_ / (1.0 - mat.max_compression);
+    const double over = total_[k] - cells_.area[k / S] * gap_[k] * loose_rho_[k] / (1.0 - s_max_[k]);
     if (over > 1e-12 * total_[k]) extrude(k, over);
   }
   prefilled_ = true;
@@ -423,7 +472,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     for (std::size_t j = 0; j < C; ++j) movable += pass_[j];
     double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
-      const double room = std::max(0.0, rho0_ * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));
+      const double room = std::max(0.0, loose_rho_[k - S] * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));
       if (kg > room) kg = room, speed_[k] = std::min(speed_[k], speed_[k - S]);  // resting on the rock below
     }
     if (kg <= 0) {
@@ -439,13 +488,13 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     if (p_.effects.feed_limited.enabled) {
       double room = 0;
       for (std::size_t k = cells() - S; k < cells(); ++k)
-        if (pressure_[k] <= 0) room += std::max(0.0, rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k));
+        if (pressure_[k] <= 0) room += std::max(0.0, loose_rho_[k] * cells_.area[k / S] * gap_[k] - loose_volume_mass(k));
       const double budget = p_.effects.feed_limited.max_feed_kg_s * h;
       if (room > budget) share = budget / room;
     }
     for (std::size_t k = cells() - S; k < cells(); ++k) {
       if (pressure_[k] > 0) continue;
-      const double room = rho0_ * cells_.area[k / S] * gap_[k] - loose_volume_mass(k);
+      const double room = loose_rho_[k] * cells_.area[k / S] * gap_[k] - loose_volume_mass(k);
       if (room > 0) fill(k, room * share);
     }
   }
@@ -463,6 +512,7 @@ std::vector<double> law_fingerprint(const FlowMaterial& m) {
   if (m.solid_divergence) f.push_back(-2.0);
   if (m.elastic_limit) f.push_back(-4.0);
   if (m.refill_length_m > 0) f.insert(f.end(), {-6.0, m.refill_length_m});
+  if (m.packing_index > 0) f.insert(f.end(), {-7.0, m.packing_index, m.packing_ref_min_m, m.packing_ref_max_m});
   return f;
 }
 
@@ -524,6 +574,12 @@ void FlowModel::save_state(core::BinaryWriter& w) const {
     std::vector<double> rf;
     for (const BedRefill& r : refill_) rf.insert(rf.end(), {double(r.open), r.released, r.low, r.t});
     w.put_vec(rf);
+  }
+  if (packing_) {  // (each cell's is solved from its last, so it is state)
+    w.tag("PACK");
+    w.put_vec(loose_rho_);
+    w.put_vec(s_max_);
+    w.put_vec(std::vector<double>(mixed_.begin(), mixed_.end()));
   }
 }
 
@@ -589,6 +645,16 @@ void FlowModel::load_state(core::BinaryReader& r) {
     r.get_vec(rf);
     if (rf.size() != 4 * n) r.fail("flow model state is corrupt");
     for (std::size_t k = 0; k < n; ++k) refill_[k] = {rf[4 * k] != 0, rf[4 * k + 1], rf[4 * k + 2], rf[4 * k + 3]};
+  }
+  if (packing_) {
+    r.expect("PACK");
+    std::vector<double> rho, s_max, mixed;
+    r.get_vec(rho);
+    r.get_vec(s_max);
+    r.get_vec(mixed);
+    if (rho.size() != n || s_max.size() != n || mixed.size() != n) r.fail("flow model state is corrupt");
+    loose_rho_ = rho, s_max_ = s_max;
+    for (std::size_t k = 0; k < n; ++k) mixed_[k] = mixed[k] != 0;
   }
 }
 

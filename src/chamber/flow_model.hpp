@@ -32,12 +32,14 @@
 //    effects.liner_friction, the rock's friction against the mantle's slip as well.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 #include <vector>
 
 #include "chamber/bed_compaction.hpp"
 #include "chamber/bed_refill.hpp"
 #include "chamber/bed_scatter.hpp"
 #include "chamber/breakage.hpp"
+#include "chamber/mixture_packing.hpp"
 #include "chamber/liner_friction.hpp"
 #include "core/binary_io.hpp"
 #include "core/chamber_geometry.hpp"
@@ -57,6 +59,10 @@ struct FlowMaterial {
   bool elastic_limit = false;    // past the limit the rock is held, elastic (bed_limit.hpp); false: pressed out
   double lump_std = 0.0;         // relative std of one lump's share of a bed's pressure (bed_scatter.hpp); 0: none
   double refill_length_m = 0.0;  // a released bed refills the opened gap over its free fall / this (bed_refill.hpp); 0: at once
+  // The mixture's packing (mixture_packing.hpp): compaction index K of the chamber's pour; 0: one loose fraction for
+  // every size mixture. The bed of sizes evenly between packing_ref_min_m and _max_m packs to loose_fraction (the die's).
+  double packing_index = 0.0;
+  double packing_ref_min_m = 28e-3, packing_ref_max_m = 40e-3;
   BreakageParams breakage;
 };
 
@@ -65,8 +71,8 @@ struct FlowMaterial {
 // The rock and its breakage: density, loose fraction, pressure law, selection and progeny.
 std::vector<double> material_fingerprint(const FlowMaterial& m);
 // The laws chosen by a tag each, appended only when on, so that states written before a law existed still load:
-// -2 the diverging pressure law, -4 the rock held elastic past the limit, -6 and its length the bed's refill. A new
-// law adds its tag here.
+// -2 the diverging pressure law, -4 the rock held elastic past the limit, -6 and its length the bed's refill, -7 and
+// its index and reference sizes the mixture's packing. A new law adds its tag here.
 std::vector<double> law_fingerprint(const FlowMaterial& m);
 
 // The compaction limit of a bed: its solid density (rho0 / (1 - s) = solid density, s = 1 - loose fraction). No bed
@@ -161,7 +167,11 @@ class FlowModel {
   int sectors() const { return p_.sectors; }
   std::size_t cells() const { return speed_.size(); }
   std::size_t classes() const { return breakage_.classes(); }
-  double loose_density() const { return rho0_; }
+  double loose_density() const { return rho0_; }  // of the reference bed (material.loose_fraction)
+  // Of cell k's rock as it lies (its mixture's packing, material.packing_index > 0; else loose_density()), kg/m^3,
+  // and its compaction limit, the solid's (at most material.max_compression).
+  double cell_loose_density(std::size_t k) const { return loose_rho_[k]; }
+  double cell_compaction_limit(std::size_t k) const { return s_max_[k]; }
   double cell_area(std::size_t k) const { return cells_.area[k / p_.sectors]; }  // m^2 of concave
   Eigen::Vector3d cell_point(std::size_t k) const;  // on the concave, concave liner frame (band 0 = bottom)
   double band_bottom(int b) const { return cells_.z_lo + b * cells_.dz; }  // z (m, liner frame) where band b starts
@@ -220,6 +230,11 @@ class FlowModel {
   core::ProfileDistance mantle_;  // the gap of a concave point to the mantle
   Breakage breakage_;
   double rho0_ = 0;
+  // Per cell: the loose density of its rock's mixture and its compaction limit (constant without the mixture's
+  // packing), refreshed at the start of a step where the rock changed (mixed_).
+  std::shared_ptr<const MixturePacking> packing_;  // null: one loose fraction
+  std::vector<double> loose_rho_, s_max_;
+  std::vector<char> mixed_;
   double locked_stiffness_ = 0;  // Pa per unit strain of a layer held past the limit (bed_limit.hpp); 0: extrude
   core::ConcaveCells cells_;  // the cells' concave points and areas
   std::vector<double> feed_share_;
@@ -249,6 +264,8 @@ class FlowModel {
   bool prefilled_ = false;
 
   void locate_cells(const Eigen::Isometry3d& concave_to_mantle);
+  void refresh_packing();  // loose_rho_ and s_max_ of the cells whose rock changed
+  double locked_stiffness(std::size_t k) const;
   void move(std::size_t from, double* to, double kg, const double* class_share, double* to_count);
   void fill(std::size_t k, double kg);  // loose feed
   double sum_classes(std::size_t k) const;
