@@ -193,22 +193,15 @@ TEST(FlowModel, ScatteredPressingsBalanceTheirMassAndResumeBitForBit) {
   p.bands = 20;
   p.sectors = 12;
   p.material.lump_std = 1.0;
-  const double h = 1e-3;
-  const auto pose = test_liners::nutating;
   chamber::FlowModel m(p, mantle, concave), plain([&] {
     auto q = p;
     q.material.lump_std = 0;
     return q;
   }(), mantle, concave);
-  int i = 0;
-  for (; i < 1000; ++i) m.step(pose(i * h), kRest, kComM, kComC, h, 9.81), plain.step(pose(i * h), kRest, kComM, kComC, h, 9.81);
+  test_liners::nutate({&m, &plain}, 0, 1000);
   const auto resumed = test_liners::resumed(m, p, mantle, concave);
   chamber::FlowModel& copy = *resumed;
-  for (int j = i; j < 2000; ++j) {
-    m.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
-    copy.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
-    plain.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
-  }
+  test_liners::nutate({&m, &copy, &plain}, 1000, 2000);
   EXPECT_GT(m.events(), 100);
   EXPECT_NEAR(m.fed_kg(), m.mass_kg() + m.discharged_kg(), 1e-9 * m.fed_kg());
   EXPECT_EQ(m.mass_kg(), copy.mass_kg());

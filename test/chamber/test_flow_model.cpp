@@ -566,16 +566,10 @@ TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
   p.bands = 20;
   p.sectors = 12;
   chamber::FlowModel m(p, mantle, concave);
-  const double h = 1e-3;
-  const auto pose = test_liners::nutating;
-  int i = 0;
-  for (; i < 1500; ++i) m.step(pose(i * h), kRest, kComM, kComC, h, 9.81);
+  test_liners::nutate({&m}, 0, 1500);
   const auto resumed = test_liners::resumed(m, p, mantle, concave);
   chamber::FlowModel& copy = *resumed;
-  for (int j = i; j < 3000; ++j) {
-    m.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
-    copy.step(pose(j * h), kRest, kComM, kComC, h, 9.81);
-  }
+  test_liners::nutate({&m, &copy}, 1500, 3000);
   EXPECT_GT(m.events(), 100);
   EXPECT_GT(m.discharged_kg(), 10.0);
   EXPECT_NEAR(m.fed_kg(), m.mass_kg() + m.discharged_kg(), 1e-9 * m.fed_kg());

@@ -151,16 +151,9 @@ TEST(MixturePacking, TheFlowModelWithItBalancesItsMassAndResumesBitForBit) {
   p.sectors = 12;
   p.material.packing_index = 4.1;
   chamber::FlowModel m(p, mantle, concave);
-  const Eigen::Isometry3d rest = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d com_m(0, 0, -0.5), com_c(0, 0, -0.6);
-  const double h = 1e-3;
-  int i = 0;
-  for (; i < 1500; ++i) m.step(test_liners::nutating(i * h), rest, com_m, com_c, h, 9.81);
+  test_liners::nutate({&m}, 0, 1500);
   const auto resumed = test_liners::resumed(m, p, mantle, concave);
-  for (int j = i; j < 3000; ++j) {
-    m.step(test_liners::nutating(j * h), rest, com_m, com_c, h, 9.81);
-    resumed->step(test_liners::nutating(j * h), rest, com_m, com_c, h, 9.81);
-  }
+  test_liners::nutate({&m, resumed.get()}, 1500, 3000);
   EXPECT_GT(m.events(), 100);
   EXPECT_EQ(m.crushing_energy_J(), resumed->crushing_energy_J());
   EXPECT_EQ(m.discharged_by_class(), resumed->discharged_by_class());

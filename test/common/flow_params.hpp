@@ -1,6 +1,7 @@
 #pragma once
 // Test flow-model parameters shared by the chamber tests: a grid of bands x sectors, no choke feed, prefill as asked;
 // a mantle pushed aside with the liners' work summed; a model resumed through a checkpoint.
+#include <initializer_list>
 #include <memory>
 #include <sstream>
 
@@ -42,6 +43,14 @@ inline std::unique_ptr<chamber::FlowModel> resumed(const chamber::FlowModel& m, 
   core::BinaryReader r(file, "flow test checkpoint");
   copy->load_state(r);
   return copy;
+}
+
+// Steps each of the models (in this order, every step) on the cone chamber's nutating mantle (nutating(t), the concave
+// at rest, centres of mass at z -0.5 and -0.6 m) from step `from` to step `to`, steps of h.
+inline void nutate(std::initializer_list<chamber::FlowModel*> models, int from, int to, double h = 1e-3) {
+  const Eigen::Vector3d com_m(0, 0, -0.5), com_c(0, 0, -0.6);
+  for (int i = from; i < to; ++i)
+    for (chamber::FlowModel* m : models) m->step(nutating(i * h), Eigen::Isometry3d::Identity(), com_m, com_c, h, 9.81);
 }
 
 }  // namespace test_liners
