@@ -39,7 +39,7 @@ assert c["mbd"]["drive"]["speed_rpm"] == 600 and c["mbd"]["time_step_s"] == 5e-4
 assert c["run"]["load"] == "flow" and c["run"]["settle_s"] == 4 and c["run"]["tf_hz"] == 50, c["run"]
 assert "base" not in c and c["flow"]["material"]["pressure"]["exponent"] == 2.8686, c["flow"]
 assert c["coupling"]["dt_s"] == 0.001 and c["flow"]["prefill"] is True, c
-assert c["mbd"]["effects"]["motor_droop"]["enabled"] is False and c["mbd"]["chamber"]["concave_r_mm"] == [229.8, 667.50711], c
+assert c["mbd"]["effects"]["motor_droop"]["enabled"] is False and c["mbd"]["chamber"]["concave_r_mm"] == [229.8, 667.3481], c
 PY
 printf 'base: %s\nrun:\n  load: flow\n  load: bed\n' "$src/launch_free_configs/gyp1200_400rpm.yaml" >"$out/dup.yaml"
 if msg=$(bash "$crusher" config --json "$out/dup.yaml" 2>&1); then echo "FAIL: a duplicate key was accepted"; exit 1; fi
