@@ -149,9 +149,7 @@ TEST(BedRefill, TheFitRecoversTheLengthThatMadeTheSlicesReloads) {
 // test_config_schema.cpp's checks of every key).
 TEST(BedRefill, TheFlowModelsRefillingBedResumesBitForBitAndPressesLess) {
   const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
-  chamber::FlowParams p;
-  p.bands = 20;
-  p.sectors = 12;
+  chamber::FlowParams p = test_liners::cone_chamber_params();
   p.material.refill_length_m = 0.03;
   chamber::FlowModel m(p, mantle, concave);
   chamber::FlowParams at_once = p;

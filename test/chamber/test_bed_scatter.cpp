@@ -189,9 +189,7 @@ TEST(FlowModel, EachPressingHasItsOwnStrengthDrawnAtItsStart) {
 
 TEST(FlowModel, ScatteredPressingsBalanceTheirMassAndResumeBitForBit) {
   const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
-  chamber::FlowParams p;
-  p.bands = 20;
-  p.sectors = 12;
+  chamber::FlowParams p = test_liners::cone_chamber_params();
   p.material.lump_std = 1.0;
   chamber::FlowModel m(p, mantle, concave), plain([&] {
     auto q = p;

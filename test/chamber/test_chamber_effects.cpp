@@ -64,18 +64,11 @@ Window gyrate(const chamber::FlowParams& p, double t0, double t1) {
   return r;
 }
 
-chamber::FlowParams choke_fed() {
-  chamber::FlowParams p;
-  p.bands = 20;
-  p.sectors = 12;
-  return p;
-}
-
 // A feeder at half the choke-fed throughput: the chamber drains to the level that passes the feed, and then the
 // throughput is the feeder's rate (mass balance), to 2 %; the feed is the rate exactly while the top has room.
 TEST(FeedLimited, AFeederBelowTheChokeThroughputSetsTheThroughput) {
-  const Window choke = gyrate(choke_fed(), 2.0, 4.0);
-  auto p = choke_fed();
+  const Window choke = gyrate(test_liners::cone_chamber_params(), 2.0, 4.0);
+  auto p = test_liners::cone_chamber_params();
   p.effects.feed_limited.enabled = true;
   p.effects.feed_limited.max_feed_kg_s = 0.5 * choke.throughput_kg_s;
   p.prefill = false;  // starts empty: fills to the feed-limited level
@@ -94,8 +87,8 @@ TEST(FeedLimited, AFeederBelowTheChokeThroughputSetsTheThroughput) {
 
 // A feeder above what the chamber passes changes nothing that matters: the chamber stays choke fed.
 TEST(FeedLimited, AFeederAboveTheChokeThroughputLeavesTheChamberChokeFed) {
-  const Window choke = gyrate(choke_fed(), 2.0, 3.0);
-  auto p = choke_fed();
+  const Window choke = gyrate(test_liners::cone_chamber_params(), 2.0, 3.0);
+  auto p = test_liners::cone_chamber_params();
   p.effects.feed_limited.enabled = true;
   p.effects.feed_limited.max_feed_kg_s = 1e3;
   const Window lim = gyrate(p, 2.0, 3.0);
@@ -163,8 +156,8 @@ TEST(WornLiners, TheGapGrowsByTheWearDepthAlongTheChamber) {
 
 // Gyrating, choke fed: the wider lower chamber lets more rock through, and coarser.
 TEST(WornLiners, AWiderSettingRaisesTheThroughputAndCoarsensTheProduct) {
-  const Window base = gyrate(choke_fed(), 2.0, 4.0);
-  auto p = choke_fed();
+  const Window base = gyrate(test_liners::cone_chamber_params(), 2.0, 4.0);
+  auto p = test_liners::cone_chamber_params();
   p.effects.worn_liners.enabled = true;
   p.effects.worn_liners.setting_increase_m = 0.010;
   const Window worn = gyrate(p, 2.0, 4.0);

@@ -562,9 +562,7 @@ TEST(FlowModel, AGapWiderThanTheFeedPassesItAndANarrowerOneHoldsTheLumps) {
 // compressed, broken and discharged; feed = chamber + product to round-off, and a resumed copy stays bit for bit.
 TEST(FlowModel, LongRunBalancesItsMassAndResumesBitForBit) {
   const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
-  chamber::FlowParams p;
-  p.bands = 20;
-  p.sectors = 12;
+  chamber::FlowParams p = test_liners::cone_chamber_params();
   chamber::FlowModel m(p, mantle, concave);
   test_liners::nutate({&m}, 0, 1500);
   const auto resumed = test_liners::resumed(m, p, mantle, concave);

@@ -146,9 +146,7 @@ TEST(MixturePacking, TheFlowModelFillsEachCellToItsMixturesLoosePacking) {
 // bit, the law in the fingerprint; refused with the laws it is not written for.
 TEST(MixturePacking, TheFlowModelWithItBalancesItsMassAndResumesBitForBit) {
   const core::Profile mantle = test_liners::gyp_mantle(), concave = test_liners::gyp_concave();
-  chamber::FlowParams p;
-  p.bands = 20;
-  p.sectors = 12;
+  chamber::FlowParams p = test_liners::cone_chamber_params();
   p.material.packing_index = 4.1;
   chamber::FlowModel m(p, mantle, concave);
   test_liners::nutate({&m}, 0, 1500);

@@ -45,6 +45,15 @@ inline std::unique_ptr<chamber::FlowModel> resumed(const chamber::FlowModel& m, 
   return copy;
 }
 
+// The cone chamber (gyp_mantle, gyp_concave) the long-run tests use: 20 bands x 12 sectors, choke fed and prefilled,
+// the default material.
+inline chamber::FlowParams cone_chamber_params() {
+  chamber::FlowParams p;
+  p.bands = 20;
+  p.sectors = 12;
+  return p;
+}
+
 // Steps each of the models (in this order, every step) on the cone chamber's nutating mantle (nutating(t), the concave
 // at rest, centres of mass at z -0.5 and -0.6 m) from step `from` to step `to`, steps of h.
 inline void nutate(std::initializer_list<chamber::FlowModel*> models, int from, int to, double h = 1e-3) {
