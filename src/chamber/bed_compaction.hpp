@@ -12,8 +12,9 @@ namespace chamber {
 
 struct CompactionScale {
   double limit = std::numeric_limits<double>::infinity();  // s_solid; infinite: the power law
-  double u(double s) const { return s / (1.0 - s / limit); }
-  double s(double u) const { return u / (1.0 + u / limit); }
+  // (the power law's u = s without its divisions: the same value, s / (1 - s / inf) = s exactly)
+  double u(double s) const { return diverges() ? s / (1.0 - s / limit) : s; }
+  double s(double u) const { return diverges() ? u / (1.0 + u / limit) : u; }
   bool diverges() const { return limit < std::numeric_limits<double>::infinity(); }
 };
 

@@ -41,7 +41,10 @@ inline mbd::BedPressure bed_refilling(mbd::BedCell& c, BedRefill& r, double u, d
   if (length_m <= 0) return mbd::bed_hysteretic(c, u, E, n, rebound);
   if (r.open) {
     r.t += h;
-    r.low = std::min(r.low, u);
+    if (u <= r.low) {  // at the least compaction since the release: below any origin (low <= u0), no exp needed
+      r.low = u;
+      return {};
+    }
     const double u0 = refill_origin(r, length_m, gravity);
     if (u <= u0) return {};
     r.open = false;

@@ -247,12 +247,14 @@ void FlowModel::add(std::size_t k, const double* share, double scale, bool keep_
 // to_count receives kg x the cell's compression count.
 void FlowModel::move(std::size_t from, double* to, double kg, const double* class_share, double* to_count) {
   double* f = &mass_[from * classes()];
+  double left = 0;  // sum_classes(from) after the move, summed as it goes
   for (std::size_t j = 0; j < classes(); ++j) {
     const double d = std::min(f[j], kg * class_share[j]);
     f[j] -= d;
     to[j] += d;
+    left += f[j];
   }
-  total_[from] = sum_classes(from);
+  total_[from] = left;
   mixed_[from] = 1;
   *to_count += kg * count_[from];
 }
@@ -296,8 +298,9 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     const std::size_t below = k - S;
     const double mb = total_[below];
     mbd::mix_compaction(bed_[below], mb, kg, c_moved);
-    for (std::size_t j = 0; j < C; ++j) mass_[below * C + j] += scratch_[j];
-    total_[below] = sum_classes(below);
+    double sum = 0;  // sum_classes(below) after the delivery, summed as it goes
+    for (std::size_t j = 0; j < C; ++j) sum += (mass_[below * C + j] += scratch_[j]);
+    total_[below] = sum;
     mixed_[below] = 1;
     count_[below] = (mb * count_[below] + kg_count) / (mb + kg);
     if (pressed_out)  // it has had the pressing it joins below (its cycle's), until that cell releases its rock
@@ -360,7 +363,8 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     double m = total_[k];
     // Compaction limit: rock pressed past max_compression flows out of the nip into the cell below, broken as by the
     // pressing that took it to the limit (the event the rock left behind completes later with the same ratio).
-    const double m_max = cap / (1.0 - s_max_[k]);
+    const bool loose = m <= cap;  // within its loose room: no compaction, below the limit (cap <= cap / (1 - s_max))
+    const double m_max = loose ? cap : cap / (1.0 - s_max_[k]);
     const bool extruded = m > m_max && !mat.elastic_limit;
     const double locked_strain = m > m_max && mat.elastic_limit ? 1.0 - m_max / m : 0.0;  // bed_limit.hpp
     if (extruded) {
@@ -388,7 +392,7 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
       std::fill_n(&pressed_[k * C], C, 0.0);
       continue;
     }
-    double e = std::clamp(1.0 - cap / m, 0.0, s_max_[k]);
+    double e = loose ? 0.0 : std::clamp(1.0 - cap / m, 0.0, s_max_[k]);
     if (e < 1e-9) e = 0;  // a cell filled to its loose capacity carries no load (round-off would hold it)
     // A compression event ends when the liner leaves the rock. With memory it took the rock from the compaction it had
     // (c_start) on to c and selects by the hazard's rise between them (a reload within c breaks nothing); without,
@@ -467,9 +471,16 @@ FlowLoads FlowModel::step(const Eigen::Isometry3d& mantle, const Eigen::Isometry
     speed_[k] += gravity * h;
     const double g_next = b > 0 ? gap_[k - S] : gap_[k];
     const double* f = &mass_[k * C];
+    // What of each class passes the gap below (classes ascend: the fine ones wholly, one in part, the rest not;
+    // summed in class order as passes() x f would, the zeros left out)
     double movable = 0;
-    for (std::size_t j = 0; j < C; ++j) pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j];
-    for (std::size_t j = 0; j < C; ++j) movable += pass_[j];
+    std::size_t j = 0;
+    for (; j < C && breakage_.upper(j) <= g_next; ++j) pass_[j] = f[j], movable += f[j];
+    for (; j < C && breakage_.lower(j) < g_next; ++j) {
+      pass_[j] = passes(breakage_.lower(j), breakage_.upper(j), g_next) * f[j];
+      movable += pass_[j];
+    }
+    std::fill(pass_.begin() + j, pass_.end(), 0.0);
     double kg = movable * std::min(1.0, speed_[k] * h / cells_.dz);
     if (b > 0) {
       const double room = std::max(0.0, loose_rho_[k - S] * cells_.area[b - 1] * gap_[k - S] - loose_volume_mass(k - S));
