@@ -53,12 +53,11 @@ geometry_msgs::Twist to_twist(const Eigen::Vector3d& v, const Eigen::Vector3d& w
 
 void BagRecorder::open(const std::string& path) {
   path_ = path;
-  bag_ = std::make_unique<rosbag::Bag>();
-  errno = 0;
+  conns_.clear();  // connections are per bag
   try {
-    bag_->open(path, rosbag::bagmode::Write);
-  } catch (const rosbag::BagException& e) {
-    fail(e.what(), errno);
+    bag_.open(path);
+  } catch (const core::BagWriteError& e) {
+    fail(e.what(), e.err);
   }
   open_ = true;
 }
@@ -72,26 +71,17 @@ void BagRecorder::fail(const std::string& detail, int err) {
   const std::string msg = write_error_text(path_, detail, err);
   if (error_.empty()) error_ = msg;
   open_ = false;
-  try {
-    bag_->close();
-  } catch (const std::exception&) {
-    // rosbag::Bag keeps its file open when closing fails, and its destructor would close (and throw) again, which
-    // ends the process: the object is left unfreed instead (once, on the way out of a failed run).
-    (void)bag_.release();
-  }
-  bag_.reset();
+  bag_.abandon();  // what reached the disk stays, unindexed
   throw WriteError(msg);
 }
 
 void BagRecorder::close_or_throw() {
   if (!open_) return;
-  errno = 0;
   try {
-    bag_->close();
-  } catch (const rosbag::BagException& e) {
-    fail(e.what(), errno);
+    bag_.close();
+  } catch (const core::BagWriteError& e) {
+    fail(e.what(), e.err);
   }
-  bag_.reset();
   open_ = false;
 }
 

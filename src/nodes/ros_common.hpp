@@ -7,13 +7,15 @@
 #include <geometry_msgs/Wrench.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
-#include <rosbag/bag.h>
+#include <ros/serialization.h>
 
 #include "core/atomic_file.hpp"
+#include "core/bag_writer.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cerrno>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -38,7 +40,8 @@ class WriteError : public std::runtime_error {
 // "writing PATH failed: DETAIL (errno's text)", the message of a WriteError (core/atomic_file.hpp).
 using core::write_error_text;
 
-// Writes every message it is given (the node's own record: nothing is dropped as `rosbag record` may).
+// Writes every message it is given (the node's own record: nothing is dropped as `rosbag record` may), through
+// core::BagWriter (a rosbag 2.0 file without rosbag's seek per message).
 // A write error throws WriteError naming the file, once: the bag is then abandoned (what reached the disk stays,
 // unindexed: `rosbag reindex` mends it), later writes are dropped and close() never throws, so a node can still
 // checkpoint and write its summary.
@@ -50,13 +53,18 @@ class BagRecorder {
   template <class M>
   void write(const std::string& topic, const ros::Time& t, const M& m) {
     if (!open_) return;
-    errno = 0;
+    const ros::Time at = t < ros::TIME_MIN ? ros::TIME_MIN : t;  // a bag cannot hold time 0
+    std::uint32_t& conn = conns_.try_emplace(topic, kNone).first->second;
+    const std::uint32_t n = ros::serialization::serializationLength(m);
     try {
-      bag_->write(topic, t < ros::TIME_MIN ? ros::TIME_MIN : t, m);  // a bag cannot hold time 0
-    } catch (const rosbag::BagException& e) {
-      fail(e.what(), errno);
+      if (conn == kNone)  // the topic's first message in this bag
+        conn = bag_.connection(topic, ros::message_traits::datatype<M>(), ros::message_traits::md5sum<M>(),
+                               ros::message_traits::definition<M>());
+      ros::serialization::OStream s(bag_.message(conn, at.sec, at.nsec, n), n);
+      ros::serialization::serialize(s, m);
+    } catch (const core::BagWriteError& e) {
+      fail(e.what(), e.err);
     }
-    ++count_[topic];
   }
   // Closes the bag (writing its index); never throws: a failure is logged and kept in error().
   void close();
@@ -65,15 +73,15 @@ class BagRecorder {
   // Closes the current bag (if any) and opens a new one: the segments of a checkpointed run. Throws WriteError.
   void reopen(const std::string& path);
   bool is_open() const { return open_; }
-  const std::map<std::string, long>& counts() const { return count_; }
   const std::string& error() const { return error_; }  // the first write error ("" when none)
 
  private:
+  static constexpr std::uint32_t kNone = ~std::uint32_t(0);
   [[noreturn]] void fail(const std::string& detail, int err);
-  std::unique_ptr<rosbag::Bag> bag_;
+  core::BagWriter bag_;
   std::string path_, error_;
   bool open_ = false;
-  std::map<std::string, long> count_;
+  std::map<std::string, std::uint32_t> conns_;  // topic -> its connection in the open bag (kNone: none yet)
 };
 
 // Writes `text` to `path` through a temporary file renamed into place (core::write_file_atomically). Returns "" or

@@ -21,7 +21,10 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include <cstring>
 #include <memory>
+
+#include "core/bag_writer.hpp"
 
 namespace {
 
@@ -58,25 +61,26 @@ int merge(const std::vector<std::string>& paths, bool concat) {
 
   const std::string part = paths[0] + ".part";
   std::map<std::string, long> count;
-  auto out = std::make_unique<rosbag::Bag>();
+  core::BagWriter out;  // (rosbag's own writer seeks before every message: src/core/README.md)
   try {
-    out->open(part, rosbag::bagmode::Write);
+    out.open(part);
     rosbag::View view;  // one view over all bags iterates in time order
     for (std::size_t k = 0; k < in.size(); ++k)
       if (!take[k].empty()) view.addQuery(*in[k], rosbag::TopicQuery(take[k]));
     for (const rosbag::MessageInstance& m : view) {
-      out->write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+      const std::uint32_t conn = out.connection(m.getTopic(), m.getDataType(), m.getMD5Sum(), m.getMessageDefinition());
+      const std::uint32_t n = m.size();
+      ros::serialization::OStream s(out.message(conn, m.getTime().sec, m.getTime().nsec, n), n);
+      m.write(s);  // the message's bytes as stored
       ++count[m.getTopic()];
     }
-    out->close();
+    out.close();
   } catch (const std::exception& e) {  // a write error (disk full, a file size limit): no abort
-    try {
-      out->close();
-    } catch (const std::exception&) {
-      (void)out.release();  // rosbag::Bag's destructor would close (and throw) again: left unfreed on the way out
-    }
+    out.abandon();
     std::remove(part.c_str());
-    std::cerr << "merge_bags: writing " << part << " failed (" << e.what() << "); " << paths[0]
+    const auto* w = dynamic_cast<const core::BagWriteError*>(&e);
+    std::cerr << "merge_bags: writing " << part << " failed (" << e.what()
+              << (w && w->err ? std::string(": ") + std::strerror(w->err) : std::string()) << "); " << paths[0]
               << " is left as it was\n";
     return 1;
   }
