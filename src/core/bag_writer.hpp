@@ -21,9 +21,9 @@ struct BagWriteError : std::runtime_error {
 
 class BagWriter {
  public:
-  // chunk_bytes: a chunk is written once its records reach this size (rosbag's default is 768 KB; a killed process
-  // loses at most the open chunk).
-  explicit BagWriter(std::size_t chunk_bytes = 128 * 1024) : chunk_bytes_(chunk_bytes) {}
+  // chunk_bytes: a chunk is written once its records reach this size (rosbag's default, 768 KB: readers read one index
+  // record per connection and chunk when they open a bag; a killed process loses at most the open chunk).
+  explicit BagWriter(std::size_t chunk_bytes = 768 * 1024) : chunk_bytes_(chunk_bytes) {}
   ~BagWriter() { abandon(); }
   BagWriter(const BagWriter&) = delete;
   BagWriter& operator=(const BagWriter&) = delete;

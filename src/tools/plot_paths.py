@@ -24,7 +24,10 @@ def swing(q):
     return (x / n, y / n, 0.0, w / n)
 
 
-def mantle_path(liners, out, label, seconds=3.0):
+MANTLE_PATH_S = 3.0  # the last seconds of the mantle's path that mantle_path plots
+
+
+def mantle_path(liners, out, label, seconds=MANTLE_PATH_S):
     """liners: [(t, (position, quaternion), points)] of the /crusher/liners mantle marker (its liner frame in world;
     the first entry's points, in that frame). Writes mantle_path.png; False if there is nothing to plot."""
     if len(liners) < 3:

@@ -4,6 +4,7 @@ values, the product size distribution with its P80 and the product index, the co
 the areas P31..P111 over the last second (the paper's Figure 21), a mantle point's path (Figure 19) and the tracked
 particles' paths of a coupled run (Figure 20, plot_paths.py). Titles name the config and the drive speed."""
 import argparse
+import itertools
 import json
 import os
 
@@ -11,8 +12,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import genpy  # noqa: E402
 import rosbag  # noqa: E402
-from plot_paths import mantle_path, particle_paths  # noqa: E402
+from plot_paths import MANTLE_PATH_S, mantle_path, particle_paths  # noqa: E402
 from print_summary import PAPER  # noqa: E402  Table 5
 
 FIG21_RINGS = (3, 5, 7, 9, 11)  # areas P31, P51, P71, P91, P111 (section 4.2.3)
@@ -42,8 +44,17 @@ def main():
     liners = []
     for path in a.bag:
         with rosbag.Bag(path) as bag:
-            for topic, m, _ in bag.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/liners",
-                                                         "/crusher/product", "/crusher/concave_forces"]):
+            # the liners (large markers) only where mantle_path uses them: the first (its points) and the last seconds
+            tail = bag.get_end_time() - MANTLE_PATH_S - 0.5 if bag.get_message_count("/crusher/liners") else 0.0
+            first = next(bag.read_messages(topics=["/crusher/liners"]), None) if tail > bag.get_start_time() else None
+            if first and first[2].to_sec() >= tail:
+                first = None  # (it is in the tail)
+            for topic, m, _ in itertools.chain(
+                    [first] if first else [],
+                    bag.read_messages(topics=["/crusher/test_point", "/crusher/drive", "/crusher/product",
+                                              "/crusher/concave_forces"]),
+                    bag.read_messages(topics=["/crusher/liners"],
+                                      start_time=genpy.Time.from_sec(max(tail, bag.get_start_time())))):
                 if topic == "/crusher/test_point":
                     t.append(m.header.stamp.to_sec())
                     d.append((m.displacement.x * 1e3, m.displacement.y * 1e3, m.displacement.z * 1e3))
