@@ -2,10 +2,12 @@
 // That rosbag's own readers (C++ View, Python) read its bags: test/ros/bag_writer.sh.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -69,12 +71,14 @@ Record record_at(const Bytes& b, std::size_t pos) {
   return records(b, pos, pos + 8 + hl + u32(&b[pos + 4 + hl]))[0];
 }
 
-Bytes read(const std::string& path) {
+Bytes read(const std::string& path) {  // the file's bytes; the file is removed
   std::ifstream f(path, std::ios::binary);
-  return Bytes(std::istreambuf_iterator<char>(f), {});
+  Bytes b{std::istreambuf_iterator<char>(f), {}};
+  std::remove(path.c_str());
+  return b;
 }
 
-std::string tmp(const char* name) { return ::testing::TempDir() + name; }
+std::string tmp(const char* name) { return ::testing::TempDir() + std::to_string(::getpid()) + "_" + name; }
 
 struct Msg {
   std::uint32_t conn, sec, nsec;
