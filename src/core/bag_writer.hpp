@@ -4,7 +4,8 @@
 // and the file header pointing at them. rosbag's own writer seeks to the file's end before every message (fseeko on a
 // read-write FILE: an lseek, a flush and a read of the last block), about 13 us a message; this costs a copy.
 // ROS-free: the caller serialises the message (ros::serialization) into the room message() gives. A write error
-// throws BagWriteError with the system's errno; the file keeps what reached the disk, unindexed (`rosbag reindex`).
+// throws BagWriteError with the system's errno and leaves the writer closed; the file keeps what reached the disk,
+// unindexed (`rosbag reindex`).
 // One thread writes (the nodes write from their main loop; rosbag's writer locks, this one does not).
 #include <cstdint>
 #include <map>

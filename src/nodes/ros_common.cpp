@@ -70,8 +70,7 @@ void BagRecorder::reopen(const std::string& path) {
 void BagRecorder::fail(const std::string& detail, int err) {
   const std::string msg = write_error_text(path_, detail, err);
   if (error_.empty()) error_ = msg;
-  open_ = false;
-  bag_.abandon();  // what reached the disk stays, unindexed
+  open_ = false;  // (a BagWriter that threw has closed its file: what reached the disk stays, unindexed)
   throw WriteError(msg);
 }
 

@@ -21,9 +21,9 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
-#include <cstring>
 #include <memory>
 
+#include "core/atomic_file.hpp"
 #include "core/bag_writer.hpp"
 
 namespace {
@@ -79,9 +79,9 @@ int merge(const std::vector<std::string>& paths, bool concat) {
     out.abandon();
     std::remove(part.c_str());
     const auto* w = dynamic_cast<const core::BagWriteError*>(&e);
-    std::cerr << "merge_bags: writing " << part << " failed (" << e.what()
-              << (w && w->err ? std::string(": ") + std::strerror(w->err) : std::string()) << "); " << paths[0]
-              << " is left as it was\n";
+    std::cerr << "merge_bags: "
+              << (w ? core::write_error_text(part, e.what(), w->err) : "writing " + part + " failed (" + e.what() + ")")
+              << "; " << paths[0] << " is left as it was\n";
     return 1;
   }
   for (auto& b : in) b->close();
