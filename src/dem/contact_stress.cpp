@@ -57,6 +57,7 @@ void World::contact_stress(std::vector<double>& s) const {
     add_contact_stress(&s[6 * i], to_ci, f);
     add_contact_stress(&s[6 * j], to_cj, fj);
   }
+  sync_bonds();
   for (const Bond& b : bonds_) {
     if (!b.alive) continue;
     const double dx = p_.x[b.j] - p_.x[b.i], dy = p_.y[b.j] - p_.y[b.i], dz = p_.z[b.j] - p_.z[b.i];

@@ -138,6 +138,7 @@ void World::remove_particles(const std::vector<char>& remove) {
   whist_.resize(p_.size() * nw);
   wtouch_.assign(p_.size(), 1);
   // bonds: drop those touching removed particles, renumber the rest
+  sync_bonds();
   std::size_t nb = 0;
   for (std::size_t b = 0; b < bonds_.size(); ++b) {
     Bond bd = bonds_[b];
@@ -274,6 +275,7 @@ void World::set_wall_position(int k, const double point[3]) {
 
 // ------------------------------------------------------------------ bonds
 std::size_t World::n_bonds_intact() const {
+  sync_bonds();
   std::size_t n = 0;
   for (const Bond& b : bonds_) n += b.alive ? 1 : 0;
   return n;
@@ -345,7 +347,36 @@ std::size_t World::bond_within(double gap_tolerance, const BondParams& bp, std::
   return bond_pairs(pairs, bp);
 }
 
+uint32_t World::bond_prm_index(const Bond& b) {
+  const double v[8] = {b.kn, b.kt, b.A, b.J, b.rb, b.damping, b.sigma_c, b.tau_c};
+  std::array<uint64_t, 8> key;
+  std::memcpy(key.data(), v, sizeof v);
+  const auto it = bprm_index_.find(key);
+  if (it != bprm_index_.end()) return it->second;
+  const uint32_t k = static_cast<uint32_t>(bprm_.size());
+  bprm_.push_back(BondPrm{b.kn, b.kt, b.A, b.J, b.rb, b.damping, b.sigma_c, b.tau_c});
+  bprm_index_.emplace(key, k);
+  return k;
+}
+
+void World::sync_bonds() const {
+  if (!bhot_ahead_) return;
+  for (std::size_t b = 0; b < bhot_.size(); ++b) {
+    const BondHot& h = bhot_[b];
+    Bond& bd = bonds_[b];
+    bd.fn = h.fn;
+    bd.tn = h.tn;
+    for (int k = 0; k < 3; ++k) {
+      bd.ft[k] = h.ft[k];
+      bd.tt[k] = h.tt[k];
+    }
+    bd.alive = static_cast<char>(h.alive);
+  }
+  bhot_ahead_ = false;
+}
+
 void World::rebuild_bond_csr() {
+  sync_bonds();
   // drop broken bonds, then index bonds per particle
   std::size_t nb = 0;
   for (std::size_t b = 0; b < bonds_.size(); ++b)
@@ -365,8 +396,42 @@ void World::rebuild_bond_csr() {
     bref_[cnt_[bonds_[b].i]++] = static_cast<uint32_t>(2 * b);
     bref_[cnt_[bonds_[b].j]++] = static_cast<uint32_t>(2 * b + 1);
   }
-  bout_.resize(nb);
   bcode_.resize(nb);
+  bhot_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Bond& bd = bonds_[b];
+    BondHot& h = bhot_[b];
+    h.i = bd.i;
+    h.j = bd.j;
+    h.prm = bond_prm_index(bd);
+    h.alive = 1;
+    h.fn = bd.fn;
+    h.tn = bd.tn;
+    for (int k = 0; k < 3; ++k) {
+      h.ft[k] = bd.ft[k];
+      h.tt[k] = bd.tt[k];
+    }
+  }
+  // bond_forces adds a bond's force straight to a particle whose bonds all fall in one thread's chunk (the
+  // chunks of `chunked`); a particle with bonds in two chunks gets them after the loop, in bond order
+  const long nbl = static_cast<long>(nb);
+  const long T = (nt_ > 1 && nbl >= kMinParallel) ? std::min(nt_, 256) : 1;
+  std::vector<int> chunk_of(n, -1);
+  std::vector<char> shared(n, 0);
+  for (long t = 0; t < T; ++t)
+    for (long b = nbl * t / T; b < nbl * (t + 1) / T; ++b)
+      for (uint32_t p : {bonds_[b].i, bonds_[b].j}) {
+        if (chunk_of[p] >= 0 && chunk_of[p] != t) shared[p] = 1;
+        chunk_of[p] = static_cast<int>(t);
+      }
+  bdefer_.clear();
+  for (std::size_t b = 0; b < nb; ++b) {
+    BondHot& h = bhot_[b];
+    h.defer_i = static_cast<uint8_t>(shared[h.i]);
+    h.defer_j = static_cast<uint8_t>(shared[h.j]);
+    if (h.defer_i || h.defer_j) bdefer_.push_back(static_cast<uint32_t>(b));
+  }
+  bout_.resize(bdefer_.size());
   bonds_damped_ = false;
   for (const Bond& b : bonds_) bonds_damped_ = bonds_damped_ || b.damping > 0.0;
   bonds_dirty_ = false;
@@ -374,7 +439,7 @@ void World::rebuild_bond_csr() {
 
 bool World::bonded(uint32_t i, uint32_t j) const {
   for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
-    const Bond& b = bonds_[bref_[s] >> 1];
+    const BondHot& b = bhot_[bref_[s] >> 1];
     if (b.alive && (b.i == j || b.j == j)) return true;
   }
   return false;
@@ -382,6 +447,7 @@ bool World::bonded(uint32_t i, uint32_t j) const {
 
 // ------------------------------------------------------------------ time step
 TimeStepCheck World::time_step_check() const {
+  sync_bonds();
   return check_time_step(prm_.dt, p_, prm_.materials, bonds_, prm_.max_rayleigh_fraction);
 }
 
@@ -780,17 +846,24 @@ void World::pair_forces() {
 }
 
 void World::bond_forces() {
-  const long nb = static_cast<long>(bonds_.size());
+  const long nb = static_cast<long>(bhot_.size());
   if (nb == 0) return;
+  bhot_ahead_ = true;
   const double dt = prm_.dt;
   std::array<long, 256> nbr{};
   const Particles& P = p_;
   const bool damped = bonds_damped_;
-  // 4 bonds at a time (Lanes4; a short last group repeats its first bond in the spare lanes)
-  chunked(std::min(nt_, 256), nb, [&](long bb, long be, int th) {
-    Bond* B = bonds_.data();
-    BondOutSlot* O = bout_.data();
+  // 4 bonds at a time (Lanes4; a short last group repeats its first bond in the spare lanes). The forces go straight
+  // into the particles (which hold gravity and the pair forces), bond by bond: each particle gets its bonds' terms
+  // in bond order, whatever the thread count. The chunks are rebuild_bond_csr's: a particle with bonds in two of
+  // them (defer_i, defer_j) gets those terms from bout_ after the loop, still in bond order.
+  const long T = (nt_ > 1 && nb >= kMinParallel) ? std::min(nt_, 256) : 1;
+  auto chunk = [&](long bb, long be, int th) {
+    BondHot* B = bhot_.data();
+    const BondPrm* PR = bprm_.data();
     uint8_t* C = bcode_.data();
+    double* fx = p_.fx.data(); double* fy = p_.fy.data(); double* fz = p_.fz.data();
+    double* tx = p_.tx.data(); double* ty = p_.ty.data(); double* tz = p_.tz.data();
     const double* x = P.x.data(); const double* y = P.y.data(); const double* z = P.z.data();
     const double* vx = P.vx.data(); const double* vy = P.vy.data(); const double* vz = P.vz.data();
     const double* wx = P.wx.data(); const double* wy = P.wy.data(); const double* wz = P.wz.data();
@@ -799,15 +872,17 @@ void World::bond_forces() {
     for (long b0 = bb; b0 < be; b0 += 4) {
       // the lanes are built in registers from four scalars each (element stores into a vector in memory, read
       // back whole, stall on store forwarding)
-      const Bond& b_0 = B[b0];
-      const Bond& b_1 = B[b0 + 1 < be ? b0 + 1 : b0];
-      const Bond& b_2 = B[b0 + 2 < be ? b0 + 2 : b0];
-      const Bond& b_3 = B[b0 + 3 < be ? b0 + 3 : b0];
+      const BondHot& b_0 = B[b0];
+      const BondHot& b_1 = B[b0 + 1 < be ? b0 + 1 : b0];
+      const BondHot& b_2 = B[b0 + 2 < be ? b0 + 2 : b0];
+      const BondHot& b_3 = B[b0 + 3 < be ? b0 + 3 : b0];
+      const BondPrm &p_0 = PR[b_0.prm], &p_1 = PR[b_1.prm], &p_2 = PR[b_2.prm], &p_3 = PR[b_3.prm];
       const uint32_t i0 = b_0.i, i1 = b_1.i, i2 = b_2.i, i3 = b_3.i, j0 = b_0.j, j1 = b_1.j, j2 = b_2.j, j3 = b_3.j;
       auto at_i = [&](const double* a) { return Lanes4{a[i0], a[i1], a[i2], a[i3]}; };
       auto at_j = [&](const double* a) { return Lanes4{a[j0], a[j1], a[j2], a[j3]}; };
-      auto of = [&](double Bond::*m) { return Lanes4{b_0.*m, b_1.*m, b_2.*m, b_3.*m}; };
-      auto of3 = [&](double (Bond::*m)[3], int k) {
+      auto of = [&](double BondPrm::*m) { return Lanes4{p_0.*m, p_1.*m, p_2.*m, p_3.*m}; };
+      auto st = [&](double BondHot::*m) { return Lanes4{b_0.*m, b_1.*m, b_2.*m, b_3.*m}; };
+      auto of3 = [&](double (BondHot::*m)[3], int k) {
         return Lanes4{(b_0.*m)[k], (b_1.*m)[k], (b_2.*m)[k], (b_3.*m)[k]};
       };
       Lanes4 xi[3] = {at_i(x), at_i(y), at_i(z)}, xj[3] = {at_j(x), at_j(y), at_j(z)};
@@ -817,22 +892,21 @@ void World::bond_forces() {
       const Lanes4 zero{};
       const Lanes4 imi = damped ? at_i(im) : zero, imj = damped ? at_j(im) : zero;  // damping only
       const Lanes4 iIi = damped ? at_i(iI) : zero, iIj = damped ? at_j(iI) : zero;
-      const Lanes4 kn = of(&Bond::kn), kt = of(&Bond::kt), A = of(&Bond::A), J = of(&Bond::J), rb = of(&Bond::rb);
-      const Lanes4 zeta = of(&Bond::damping);
-      Lanes4 fn = of(&Bond::fn), tn = of(&Bond::tn);
-      Lanes4 ft[3] = {of3(&Bond::ft, 0), of3(&Bond::ft, 1), of3(&Bond::ft, 2)};
-      Lanes4 tt[3] = {of3(&Bond::tt, 0), of3(&Bond::tt, 1), of3(&Bond::tt, 2)};
+      const Lanes4 kn = of(&BondPrm::kn), kt = of(&BondPrm::kt), A = of(&BondPrm::A), J = of(&BondPrm::J);
+      const Lanes4 rb = of(&BondPrm::rb), zeta = of(&BondPrm::damping);
+      Lanes4 fn = st(&BondHot::fn), tn = st(&BondHot::tn);
+      Lanes4 ft[3] = {of3(&BondHot::ft, 0), of3(&BondHot::ft, 1), of3(&BondHot::ft, 2)};
+      Lanes4 tt[3] = {of3(&BondHot::tt, 0), of3(&BondHot::tt, 1), of3(&BondHot::tt, 2)};
       Lanes4 sigma, tau, f[3], ti[3], tj[3];
       bond_law_lanes<Lanes4>(xi, xj, vi, vj, wi, wj, ri, rj, imi, imj, iIi, iIj, kn, kt, A, J, rb, zeta, damped, dt,
                              fn, ft, tn, tt, sigma, tau, f, ti, tj);
       const long nl = std::min<long>(4, be - b0);
       for (long l = 0; l < nl; ++l) {
-        Bond& bd = B[b0 + l];
-        BondOutSlot& o = O[b0 + l];
-        const int code = bd.alive ? bond_break_code(bd, sigma[l], tau[l]) : 0;
+        BondHot& bd = B[b0 + l];
+        const BondPrm& bp = PR[bd.prm];
+        const int code = bd.alive ? bond_break_code(bp.sigma_c, bp.tau_c, sigma[l], tau[l]) : 0;
         C[b0 + l] = static_cast<uint8_t>(code);
         if (!bd.alive || code) {  // no force; a breaking bond keeps its spring state
-          for (int k = 0; k < 3; ++k) o.f[k] = o.ti[k] = o.tj[k] = 0.0;
           broken += code != 0;
           continue;
         }
@@ -841,21 +915,60 @@ void World::bond_forces() {
         for (int k = 0; k < 3; ++k) {
           bd.ft[k] = ft[k][l];
           bd.tt[k] = tt[k][l];
-          o.f[k] = f[k][l];
-          o.ti[k] = ti[k][l];
-          o.tj[k] = tj[k][l];
+        }
+        const uint32_t i = bd.i, j = bd.j;
+        if (bd.defer_i | bd.defer_j) {
+          const long s = std::lower_bound(bdefer_.begin(), bdefer_.end(), static_cast<uint32_t>(b0 + l)) -
+                         bdefer_.begin();
+          BondOutSlot& o = bout_[s];
+          for (int k = 0; k < 3; ++k) {
+            o.f[k] = f[k][l];
+            o.ti[k] = ti[k][l];
+            o.tj[k] = tj[k][l];
+          }
+        }
+        if (!bd.defer_i) {
+          fx[i] -= f[0][l]; fy[i] -= f[1][l]; fz[i] -= f[2][l];
+          tx[i] += ti[0][l]; ty[i] += ti[1][l]; tz[i] += ti[2][l];
+        }
+        if (!bd.defer_j) {
+          fx[j] += f[0][l]; fy[j] += f[1][l]; fz[j] += f[2][l];
+          tx[j] += tj[0][l]; ty[j] += tj[1][l]; tz[j] += tj[2][l];
         }
       }
     }
     nbr[th] = broken;
-  });
+  };
+  if (T == 1) {
+    chunk(0, nb, 0);
+  } else {
+#pragma omp parallel for num_threads(T) schedule(static, 1)
+    for (long t = 0; t < T; ++t) chunk(nb * t / T, nb * (t + 1) / T, static_cast<int>(t));
+  }
+  // the deferred sides, in bond order
+  for (std::size_t s = 0; s < bdefer_.size(); ++s) {
+    const uint32_t b = bdefer_[s];
+    const BondHot& bd = bhot_[b];
+    if (!bd.alive || bcode_[b]) continue;
+    const BondOutSlot& o = bout_[s];
+    const uint32_t i = bd.i, j = bd.j;
+    if (bd.defer_i) {
+      p_.fx[i] -= o.f[0]; p_.fy[i] -= o.f[1]; p_.fz[i] -= o.f[2];
+      p_.tx[i] += o.ti[0]; p_.ty[i] += o.ti[1]; p_.tz[i] += o.ti[2];
+    }
+    if (bd.defer_j) {
+      p_.fx[j] += o.f[0]; p_.fy[j] += o.f[1]; p_.fz[j] += o.f[2];
+      p_.tx[j] += o.tj[0]; p_.ty[j] += o.tj[1]; p_.tz[j] += o.tj[2];
+    }
+  }
   long nbroken = 0;
   for (long c : nbr) nbroken += c;
   if (nbroken == 0) return;
   std::vector<std::pair<uint32_t, uint32_t>> freed;
   for (long b = 0; b < nb; ++b) {  // serial, in bond order: deterministic log
     if (!bcode_[b]) continue;
-    Bond& bd = bonds_[b];
+    BondHot& bd = bhot_[b];
+    const BondPrm& bp = bprm_[bd.prm];
     freed.emplace_back(std::min(bd.i, bd.j), std::max(bd.i, bd.j));
     // a breaking bond kept its spring state: the same evaluation again gives its stresses
     Lanes4 xi[3], xj[3], vi[3], vj[3], wi[3], wj[3], fn, ft[3], tn, tt[3], sigma, tau, f[3], ti[3], tj[3];
@@ -872,8 +985,8 @@ void World::bond_forces() {
     tn = Lanes4{} + bd.tn;
     const Lanes4 o = Lanes4{};
     bond_law_lanes<Lanes4>(xi, xj, vi, vj, wi, wj, o + P.r[i], o + P.r[j], o + P.inv_m[i], o + P.inv_m[j],
-                           o + P.inv_I[i], o + P.inv_I[j], o + bd.kn, o + bd.kt, o + bd.A, o + bd.J, o + bd.rb,
-                           o + bd.damping, damped, dt, fn, ft, tn, tt, sigma, tau, f, ti, tj);
+                           o + P.inv_I[i], o + P.inv_I[j], o + bp.kn, o + bp.kt, o + bp.A, o + bp.J, o + bp.rb,
+                           o + bp.damping, damped, dt, fn, ft, tn, tt, sigma, tau, f, ti, tj);
     bd.alive = 0;
     BondBreak e;
     e.t = t_;  // already the end of this step
@@ -937,7 +1050,7 @@ State state_of(Particles& p, const SVec<double>& x0, const SVec<double>& y0, con
 }
 }  // namespace
 
-// Per particle, in fixed order: bond forces and wall contacts are added to gravity + pair forces. With kick,
+// Per particle, in fixed order: wall contacts are added to gravity + pair and bond forces. With kick,
 // the velocity half-step that ends this step follows (and the finiteness check); with drift also the half
 // kick and drift that begin the next step (the arithmetic is the same as in separate loops).
 void World::gather_forces(bool kick, bool drift) {
@@ -946,7 +1059,6 @@ void World::gather_forces(bool kick, bool drift) {
   const double dt = prm_.dt, hdt = 0.5 * dt;
   const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
   const MaterialTable& mt = prm_.materials;
-  const bool have_bonds = !bonds_.empty();
   const double ovf = prm_.max_overlap_fraction > 0 ? prm_.max_overlap_fraction
                                                      : std::numeric_limits<double>::infinity();
   std::fill(wforce_thr_.begin(), wforce_thr_.end(), 0.0);
@@ -963,28 +1075,12 @@ void World::gather_forces(bool kick, bool drift) {
   chunked(nt_, n, [&](long ib, long ie, int th) {
     const State S = S0;
     double* wf = wforce_thr_.data() + static_cast<std::size_t>(th) * nw * 3;
-    const uint32_t* BS = bstart_.data();
-    const uint32_t* BR = bref_.data();
-    const BondOutSlot* BO = bout_.data();
     char* wt = wtouch_.data();
     std::array<double, 3>* WH = whist_.data();
     double maxd2 = 0;
     char bad = 0;
     for (long i = ib; i < ie; ++i) {
       double f[3] = {S.fx[i], S.fy[i], S.fz[i]}, t[3] = {S.tx[i], S.ty[i], S.tz[i]};
-      if (have_bonds) {
-        for (uint32_t s = BS[i]; s < BS[i + 1]; ++s) {
-          const uint32_t ref = BR[s];
-          const BondOutSlot& o = BO[ref >> 1];
-          if (ref & 1u) {  // i is the bond's j
-            f[0] += o.f[0]; f[1] += o.f[1]; f[2] += o.f[2];
-            t[0] += o.tj[0]; t[1] += o.tj[1]; t[2] += o.tj[2];
-          } else {
-            f[0] -= o.f[0]; f[1] -= o.f[1]; f[2] -= o.f[2];
-            t[0] += o.ti[0]; t[1] += o.ti[1]; t[2] += o.ti[2];
-          }
-        }
-      }
       const char touched = wt[i];
       char touching = 0;
       const double xi = S.x[i], yi = S.y[i], zi = S.z[i], ri = S.r[i];
@@ -1300,8 +1396,8 @@ double World::bytes_per_particle() const {
 
 double World::bytes_per_bond() const {
   const double nb = std::max<std::size_t>(bonds_.size(), 1);
-  return (sizeof(Bond) * bonds_.capacity() + sizeof(BondOutSlot) * bout_.capacity() + bcode_.capacity() +
-          4.0 * bref_.capacity()) / nb;
+  return (sizeof(Bond) * bonds_.capacity() + sizeof(BondHot) * bhot_.capacity() + sizeof(BondPrm) * bprm_.capacity() +
+          sizeof(BondOutSlot) * bout_.capacity() + bcode_.capacity() + 4.0 * bref_.capacity()) / nb;
 }
 
 }  // namespace dem

@@ -4,7 +4,7 @@
 // (Interaction, e.g. triangle meshes). Velocity-Verlet integration, cell-list Verlet neighbour list,
 // OpenMP with results identical run to run and across thread counts: pair forces are added straight into
 // the particles' force arrays, slab by slab in a fixed three-colour order (slabs of the same colour touch
-// disjoint particles); bond forces go to per-bond slots gathered per particle in a fixed order.
+// disjoint particles); bond forces too, each particle's in bond order (bond_forces).
 //
 // Step order: half kick (v += dt/2 F/m, w += dt/2 T/I) -> drift (x += dt v, walls move) -> neighbour list
 // rebuild if any particle moved more than skin/2 -> pair forces (added to gravity) -> bond forces (breaks
@@ -21,6 +21,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -103,7 +104,12 @@ class World {
   std::size_t bond_within(double gap_tolerance, const BondParams& bp, std::size_t first = 0,
                           std::size_t last = static_cast<std::size_t>(-1));
   std::size_t bond_pairs(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, const BondParams& bp);
-  const std::vector<Bond>& bonds() const { return bonds_; }  // may hold broken ones (alive == 0)
+  // May hold broken ones (alive == 0). The spring states live in the engine's own compact copy while it steps
+  // (World::BondHot): this call copies them into the list it returns (O(bonds) once per step() call).
+  const std::vector<Bond>& bonds() const {
+    sync_bonds();
+    return bonds_;
+  }
   std::size_t n_bonds_intact() const;
   const std::vector<BondBreak>& breaks() const { return breaks_; }
   void clear_breaks() { breaks_.clear(); }
@@ -201,6 +207,28 @@ class World {
   struct BondOutSlot {  // force on j (i gets -f), torques on i and j
     double f[3], ti[3], tj[3];
   };
+  // What the bond loop reads and writes each step, 80 bytes a bond (a Bond is 144, its constants read and written
+  // back with its state): the particles, the spring state and the index of the bond's constants in bprm_, a
+  // table of the distinct constant sets (1199 for the gyp1200 chamber's 381,758 bonds). Built from bonds_ by
+  // rebuild_bond_csr in the same order; bonds_ gets the state back by sync_bonds. defer_i, defer_j: that
+  // particle has bonds in more than one of the bond loop's thread chunks (bond_forces).
+  struct BondHot {
+    uint32_t i, j, prm;
+    uint8_t alive, defer_i, defer_j, unused;
+    double fn, tn, ft[3], tt[3];
+  };
+  struct BondPrm {
+    double kn, kt, A, J, rb, damping, sigma_c, tau_c;
+  };
+  struct BondPrmHash {
+    std::size_t operator()(const std::array<uint64_t, 8>& k) const {
+      std::size_t h = 0;
+      for (uint64_t v : k) h = (h ^ v) * 0x100000001b3ULL + (h >> 29);
+      return h;
+    }
+  };
+  uint32_t bond_prm_index(const Bond& b);
+  void sync_bonds() const;  // the spring states and alive flags of bhot_ into bonds_, when bhot_ is ahead
   void prepare();
   void open_step();
   void run_steps(long nsteps);
@@ -263,7 +291,13 @@ class World {
   double step_growth_ = 0, growth_since_build_ = 0;
 
   // bonds
-  std::vector<Bond> bonds_;
+  mutable std::vector<Bond> bonds_;  // its spring state and alive flags are bhot_'s while bhot_ahead_
+  SVec<BondHot> bhot_;
+  mutable bool bhot_ahead_ = false;
+  SVec<BondPrm> bprm_;
+  std::unordered_map<std::array<uint64_t, 8>, uint32_t, BondPrmHash> bprm_index_;
+  // the bonds with a deferred side, ascending, and their forces of the last step (bond_forces)
+  std::vector<uint32_t> bdefer_;
   SVec<BondOutSlot> bout_;
   bool bonds_damped_ = false;  // some bond has damping > 0
   SVec<uint8_t> bcode_;  // per bond, last step: 0 intact, 1 broke in tension, 2 in shear

@@ -81,6 +81,7 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   std::vector<BondBreak> breaks;
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const World& w = *parts[k];
+    w.sync_bonds();
     for (const Bond& b : w.bonds_) {
       if (!owned[k][b.i]) continue;
       const long ci = index(w, b.i, "bond"), cj = index(w, b.j, "bond");
@@ -130,6 +131,7 @@ void World::assemble(const std::vector<const World*>& parts, const std::vector<s
   wtouch_.swap(wtouch);
   whist_.swap(whist);
   bonds_ = std::move(bonds);
+  bhot_ahead_ = false;  // bhot_ is rebuilt from bonds_ before the next step (bonds_dirty_)
   breaks_ = std::move(breaks);
   npairs_ = pairs.size();
   pi_.assign(npairs_, 0), pj_.assign(npairs_, 0), hist_.assign(npairs_, std::array<double, 3>{{0, 0, 0}});
@@ -164,6 +166,7 @@ void World::set_ghosts(const std::vector<char>& ghost) {
     throw std::invalid_argument("World::set_ghosts: mask of " + std::to_string(ghost.size()) + " for " +
                                 std::to_string(p_.size()) + " particles");
   ghost_ = ghost;
+  sync_bonds();
   std::size_t nb = 0;  // bonds between two ghosts: their owners compute them
   for (const Bond& b : bonds_)
     if (!(ghost[b.i] && ghost[b.j])) bonds_[nb++] = b;

@@ -92,6 +92,7 @@ void World::save_state(core::BinaryWriter& w) {
     }
 
   w.tag("BOND");
+  sync_bonds();
   w.put<uint64_t>(bonds_.size());
   for (const Bond& b : bonds_) {  // broken ones not compacted yet too: the loaded World compacts them
     w.put<uint32_t>(b.i);
@@ -259,6 +260,7 @@ void World::load_state(core::BinaryReader& r) {
   wtouch_.swap(wtouch);
   whist_.swap(whist);
   bonds_ = std::move(bonds);
+  bhot_ahead_ = false;  // bhot_ is rebuilt from bonds_ before the next step (bonds_dirty_)
   breaks_ = std::move(breaks);
   npairs_ = npairs;
   pi_.swap(pi);
