@@ -397,6 +397,14 @@ void World::rebuild_bond_csr() {
     bref_[cnt_[bonds_[b].j]++] = static_cast<uint32_t>(2 * b + 1);
   }
   bcode_.resize(nb);
+  bonds_damped_ = false;
+  for (const Bond& b : bonds_) bonds_damped_ = bonds_damped_ || b.damping > 0.0;
+  bonds_dirty_ = false;
+  bhot_stale_ = true;  // built when the bond loop next runs (not per bond_pairs call of a filling chamber)
+}
+
+void World::build_bond_hot() {
+  const std::size_t nb = bonds_.size(), n = p_.size();
   bhot_.resize(nb);
   for (std::size_t b = 0; b < nb; ++b) {
     const Bond& bd = bonds_[b];
@@ -412,8 +420,8 @@ void World::rebuild_bond_csr() {
       h.tt[k] = bd.tt[k];
     }
   }
-  // bond_forces adds a bond's force straight to a particle whose bonds all fall in one thread's chunk (the
-  // chunks of `chunked`); a particle with bonds in two chunks gets them after the loop, in bond order
+  // bond_forces adds a bond's force straight to a particle whose bonds all fall in one of its T contiguous chunks;
+  // a particle with bonds in two chunks gets them after the loop, in bond order
   const long nbl = static_cast<long>(nb);
   const long T = (nt_ > 1 && nbl >= kMinParallel) ? std::min(nt_, 256) : 1;
   std::vector<int> chunk_of(n, -1);
@@ -432,15 +440,15 @@ void World::rebuild_bond_csr() {
     if (h.defer_i || h.defer_j) bdefer_.push_back(static_cast<uint32_t>(b));
   }
   bout_.resize(bdefer_.size());
-  bonds_damped_ = false;
-  for (const Bond& b : bonds_) bonds_damped_ = bonds_damped_ || b.damping > 0.0;
-  bonds_dirty_ = false;
+  bhot_stale_ = false;
 }
 
 bool World::bonded(uint32_t i, uint32_t j) const {
   for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
-    const BondHot& b = bhot_[bref_[s] >> 1];
-    if (b.alive && (b.i == j || b.j == j)) return true;
+    const uint32_t b = bref_[s] >> 1;
+    if (bhot_ahead_ ? bhot_[b].alive && (bhot_[b].i == j || bhot_[b].j == j)
+                    : bonds_[b].alive && (bonds_[b].i == j || bonds_[b].j == j))
+      return true;
   }
   return false;
 }
@@ -846,6 +854,7 @@ void World::pair_forces() {
 }
 
 void World::bond_forces() {
+  if (bhot_stale_) build_bond_hot();
   const long nb = static_cast<long>(bhot_.size());
   if (nb == 0) return;
   bhot_ahead_ = true;
@@ -1056,6 +1065,7 @@ State state_of(Particles& p, const SVec<double>& x0, const SVec<double>& y0, con
 void World::gather_forces(bool kick, bool drift) {
   const long n = static_cast<long>(p_.size());
   const std::size_t nw = walls_.size();
+  if (nw == 0 && !kick && !drift) return;  // nothing to add (the liners of a chamber are meshes: no planes)
   const double dt = prm_.dt, hdt = 0.5 * dt;
   const double g[3] = {prm_.gravity[0], prm_.gravity[1], prm_.gravity[2]};
   const MaterialTable& mt = prm_.materials;

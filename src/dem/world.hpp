@@ -228,6 +228,7 @@ class World {
     }
   };
   uint32_t bond_prm_index(const Bond& b);
+  void build_bond_hot();  // bhot_, bdefer_ from bonds_ and the CSR
   void sync_bonds() const;  // the spring states and alive flags of bhot_ into bonds_, when bhot_ is ahead
   void prepare();
   void open_step();
@@ -293,7 +294,8 @@ class World {
   // bonds
   mutable std::vector<Bond> bonds_;  // its spring state and alive flags are bhot_'s while bhot_ahead_
   SVec<BondHot> bhot_;
-  mutable bool bhot_ahead_ = false;
+  mutable bool bhot_ahead_ = false;  // bhot_ holds newer spring states than bonds_ (the bond loop ran since)
+  bool bhot_stale_ = true;           // bonds_ changed since bhot_ was built
   SVec<BondPrm> bprm_;
   std::unordered_map<std::array<uint64_t, 8>, uint32_t, BondPrmHash> bprm_index_;
   // the bonds with a deferred side, ascending, and their forces of the last step (bond_forces)
