@@ -285,11 +285,11 @@ void crusher(const std::string& config, const std::string& from_run, long steps,
   const std::size_t nc = w.n_contacts();
   const auto p1 = dem.product();
   std::printf("case crusher particles %.0f steps %ld threads %d wall_s %.3f particle_steps_per_s %.4g contacts %zu "
-              "contacts_per_particle %.2f bonds %zu coupling_steps %ld sim_s %.4g wall_h_per_sim_s %.2f\n",
-              n1, dem_steps, w.threads(), wall, n * dem_steps / wall, nc, 2.0 * nc / std::max(n1, 1.0), w.n_bonds_intact(),
-              steps, sim_s, wall / sim_s / 3600.0);
-  // Where the time goes. Bonds: the bond law (World phase 3); the bond gather shares the per-particle loop with the
-  // planar walls and the kicks (integration).
+              "contacts_per_particle %.2f neighbour_pairs %zu bonds %zu coupling_steps %ld sim_s %.4g wall_h_per_sim_s %.2f\n",
+              n1, dem_steps, w.threads(), wall, n * dem_steps / wall, nc, 2.0 * nc / std::max(n1, 1.0), w.n_pairs(),
+              w.n_bonds_intact(), steps, sim_s, wall / sim_s / 3600.0);
+  // Where the time goes. Bonds: the bond law and its forces on the particles (World phase 3); integration: the kicks
+  // and drift with the planar walls (phases 0, 4, 6).
   const double pct = 100.0 / wall;
   const double integ = wph[0] + wph[4] + wph[6];
   const double other = wall - (wph[1] + wph[2] + wph[3] + wph[5] + integ + cph[1] + cph[2] + cph[3] + cph[4]);
