@@ -300,6 +300,63 @@ TEST(Bonds, BrokenBondsDroppedInBatchesGiveTheSameRun) {
   EXPECT_GE(compactions, 2u);
 }
 
+// The bond loop adds each bond's forces straight to its particles, cut into one chunk of bonds per thread; a particle
+// with bonds in two chunks gets those after the loop (World::bond_forces). Each particle must still get its terms in
+// bond order, so 2 and 3 threads take the steps of 1 thread (no chunks) bit for bit, while the block bursts and its
+// bonds break, with two bond strengths (two constant sets). Fails when the deferred terms are added in another order.
+TEST(Bonds, ThreadCountsGiveTheSameRunBitForBit) {
+  auto run = [](int threads) {
+    dem::WorldParams wp = quiet_params(2e-8);
+    wp.threads = threads;
+    auto w = std::make_unique<dem::World>(wp);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> U(-1, 1);
+    const double r = 1e-3;
+    for (int i = 0; i < 11; ++i)
+      for (int j = 0; j < 11; ++j)
+        for (int k = 0; k < 11; ++k) {
+          const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
+          const double v[3] = {0.1 * i + 0.1 * U(rng), 0.1 * j + 0.1 * U(rng), 0.1 * k + 0.1 * U(rng)};
+          const double om[3] = {50 * U(rng), 50 * U(rng), 50 * U(rng)};
+          w->add_particle(x, r * (1 + 0.1 * U(rng)), 0, v, om);
+        }
+    dem::BondParams bp = table4_bond();
+    bp.sigma_c = 3.5e6;
+    bp.tau_c = 1.7e6;
+    const std::size_t n = w->particles().size();
+    w->bond_within(0.25 * r, bp, 0, n / 2);
+    bp.sigma_c = 5e6;
+    w->bond_within(0.25 * r, bp, n / 2, n);
+    return w;
+  };
+  auto one = run(1), two = run(2), three = run(3);
+  ASSERT_GT(one->n_bonds_intact(), 2500u);
+  for (int s = 0; s < 8; ++s) {
+    one->step(250);
+    two->step(250);
+    three->step(250);
+    for (const dem::World* w : {two.get(), three.get()}) {
+      ASSERT_EQ(w->breaks().size(), one->breaks().size()) << "block " << s;
+      const auto &a = one->particles(), &b = w->particles();
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a.x[i], b.x[i]) << "block " << s << " particle " << i << " threads " << w->threads();
+        ASSERT_EQ(a.vz[i], b.vz[i]) << "block " << s << " particle " << i;
+        ASSERT_EQ(a.wy[i], b.wy[i]) << "block " << s << " particle " << i;
+        ASSERT_EQ(a.fx[i], b.fx[i]) << "block " << s << " particle " << i;
+        ASSERT_EQ(a.tz[i], b.tz[i]) << "block " << s << " particle " << i;
+      }
+      const auto &ba = one->bonds(), &bb = w->bonds();
+      ASSERT_EQ(ba.size(), bb.size());
+      for (std::size_t k = 0; k < ba.size(); ++k) {
+        ASSERT_EQ(ba[k].fn, bb[k].fn) << "bond " << k;
+        ASSERT_EQ(ba[k].tt[1], bb[k].tt[1]) << "bond " << k;
+      }
+    }
+  }
+  EXPECT_GT(one->breaks().size(), 300u) << "the block must break up";
+  EXPECT_GT(one->n_bonds_intact(), 1024u) << "still enough bonds for the loop to run in chunks";
+}
+
 TEST(Bonds, InvalidParametersAreRejected) {
   dem::World w(quiet_params(1e-7));
   const double a[3] = {0, 0, 0}, b[3] = {2e-3, 0, 0};
