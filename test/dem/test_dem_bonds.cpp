@@ -22,6 +22,23 @@ dem::WorldParams quiet_params(double dt) {
   return wp;
 }
 
+// A bursting block of n^3 spheres of radius 1 mm (+-10 %) 2 mm apart: velocity grad x index + rand x U(-1, 1) per axis,
+// spin x U(-1, 1) per axis when spin > 0.
+void add_bursting_block(dem::World& w, int n, double grad, double rand, double spin, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> U(-1, 1);
+  const double r = 1e-3;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
+        const double v[3] = {grad * i + rand * U(rng), grad * j + rand * U(rng), grad * k + rand * U(rng)};
+        double om[3] = {0, 0, 0};
+        if (spin > 0)
+          for (double& c : om) c = spin * U(rng);
+        w.add_particle(x, r * (1 + 0.1 * U(rng)), 0, v, om);
+      }
+}
+
 dem::BondParams table4_bond() {
   dem::BondParams b;
   b.kn = 400e9;  // Table 4
@@ -251,15 +268,8 @@ TEST(Bonds, BrokenBondsDroppedInBatchesGiveTheSameRun) {
   wp.threads = 2;
   auto a = std::make_unique<dem::World>(wp);
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> U(-1, 1);
   const double r = 1e-3;
-  for (int i = 0; i < 8; ++i)
-    for (int j = 0; j < 8; ++j)
-      for (int k = 0; k < 8; ++k) {
-        const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
-        const double v[3] = {0.5 * i + 0.3 * U(rng), 0.5 * j + 0.3 * U(rng), 0.5 * k + 0.3 * U(rng)};  // bursting
-        a->add_particle(x, r * (1 + 0.1 * U(rng)), 0, v);
-      }
+  add_bursting_block(*a, 8, 0.5, 0.3, 0, rng);
   dem::BondParams bp = table4_bond();
   bp.sigma_c = 2e6;
   bp.tau_c = 1e6;
@@ -310,16 +320,8 @@ TEST(Bonds, ThreadCountsGiveTheSameRunBitForBit) {
     wp.threads = threads;
     auto w = std::make_unique<dem::World>(wp);
     std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> U(-1, 1);
     const double r = 1e-3;
-    for (int i = 0; i < 11; ++i)
-      for (int j = 0; j < 11; ++j)
-        for (int k = 0; k < 11; ++k) {
-          const double x[3] = {i * 2 * r, j * 2 * r, k * 2 * r};
-          const double v[3] = {0.1 * i + 0.1 * U(rng), 0.1 * j + 0.1 * U(rng), 0.1 * k + 0.1 * U(rng)};
-          const double om[3] = {50 * U(rng), 50 * U(rng), 50 * U(rng)};
-          w->add_particle(x, r * (1 + 0.1 * U(rng)), 0, v, om);
-        }
+    add_bursting_block(*w, 11, 0.1, 0.1, 50, rng);
     dem::BondParams bp = table4_bond();
     bp.sigma_c = 3.5e6;
     bp.tau_c = 1.7e6;
