@@ -424,6 +424,7 @@ void World::build_bond_hot() {
   // a particle with bonds in two chunks gets them after the loop, in bond order
   const long nbl = static_cast<long>(nb);
   const long T = (nt_ > 1 && nbl >= kMinParallel) ? std::min(nt_, 256) : 1;
+  bchunks_ = static_cast<int>(T);
   std::vector<int> chunk_of(n, -1);
   std::vector<char> shared(n, 0);
   for (long t = 0; t < T; ++t)
@@ -864,9 +865,9 @@ void World::bond_forces() {
   const bool damped = bonds_damped_;
   // 4 bonds at a time (Lanes4; a short last group repeats its first bond in the spare lanes). The forces go straight
   // into the particles (which hold gravity and the pair forces), bond by bond: each particle gets its bonds' terms
-  // in bond order, whatever the thread count. The chunks are rebuild_bond_csr's: a particle with bonds in two of
+  // in bond order, whatever the thread count. The chunks are build_bond_hot's: a particle with bonds in two of
   // them (defer_i, defer_j) gets those terms from bout_ after the loop, still in bond order.
-  const long T = (nt_ > 1 && nb >= kMinParallel) ? std::min(nt_, 256) : 1;
+  const long T = bchunks_;
   auto chunk = [&](long bb, long be, int th) {
     BondHot* B = bhot_.data();
     const BondPrm* PR = bprm_.data();

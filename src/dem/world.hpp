@@ -300,6 +300,7 @@ class World {
   std::unordered_map<std::array<uint64_t, 8>, uint32_t, BondPrmHash> bprm_index_;
   // the bonds with a deferred side, ascending, and their forces of the last step (bond_forces)
   std::vector<uint32_t> bdefer_;
+  int bchunks_ = 1;  // the bond loop's chunks, one per thread (build_bond_hot)
   SVec<BondOutSlot> bout_;
   bool bonds_damped_ = false;  // some bond has damping > 0
   SVec<uint8_t> bcode_;  // per bond, last step: 0 intact, 1 broke in tension, 2 in shear
