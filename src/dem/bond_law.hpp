@@ -96,7 +96,9 @@ __attribute__((always_inline)) inline void bond_law_lanes(
 inline int bond_break_code(double sigma_c, double tau_c, double sigma, double tau) {
   return sigma >= sigma_c ? 1 : (tau >= tau_c ? 2 : 0);
 }
-inline int bond_break_code(const Bond& b, double sigma, double tau) { return bond_break_code(b.sigma_c, b.tau_c, sigma, tau); }
+inline int bond_break_code(const Bond& b, double sigma, double tau) {
+  return bond_break_code(b.sigma_c, b.tau_c, sigma, tau);
+}
 
 // One bond, scalar. xi, xj: centres; vi, vj, wi, wj: (half-step) velocities; ri, rj radii; inverse masses and
 // inverse moments of inertia (used by the optional damping only). Updates the spring state of b by one step

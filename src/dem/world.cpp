@@ -445,11 +445,10 @@ void World::build_bond_hot() {
 }
 
 bool World::bonded(uint32_t i, uint32_t j) const {
+  auto joins = [j](const auto& b) { return b.alive && (b.i == j || b.j == j); };  // a Bond or a BondHot
   for (uint32_t s = bstart_[i]; s < bstart_[i + 1]; ++s) {
     const uint32_t b = bref_[s] >> 1;
-    if (bhot_ahead_ ? bhot_[b].alive && (bhot_[b].i == j || bhot_[b].j == j)
-                    : bonds_[b].alive && (bonds_[b].i == j || bonds_[b].j == j))
-      return true;
+    if (bhot_ahead_ ? joins(bhot_[b]) : joins(bonds_[b])) return true;
   }
   return false;
 }

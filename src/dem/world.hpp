@@ -18,10 +18,10 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -210,7 +210,7 @@ class World {
   // What the bond loop reads and writes each step, 80 bytes a bond (a Bond is 144, its constants read and written
   // back with its state): the particles, the spring state and the index of the bond's constants in bprm_, a
   // table of the distinct constant sets (1199 for the gyp1200 chamber's 381,758 bonds). Built from bonds_ by
-  // rebuild_bond_csr in the same order; bonds_ gets the state back by sync_bonds. defer_i, defer_j: that
+  // build_bond_hot in the same order; bonds_ gets the state back by sync_bonds. defer_i, defer_j: that
   // particle has bonds in more than one of the bond loop's thread chunks (bond_forces).
   struct BondHot {
     uint32_t i, j, prm;
@@ -219,13 +219,6 @@ class World {
   };
   struct BondPrm {
     double kn, kt, A, J, rb, damping, sigma_c, tau_c;
-  };
-  struct BondPrmHash {
-    std::size_t operator()(const std::array<uint64_t, 8>& k) const {
-      std::size_t h = 0;
-      for (uint64_t v : k) h = (h ^ v) * 0x100000001b3ULL + (h >> 29);
-      return h;
-    }
   };
   uint32_t bond_prm_index(const Bond& b);
   void build_bond_hot();  // bhot_, bdefer_ from bonds_ and the CSR
@@ -297,7 +290,7 @@ class World {
   mutable bool bhot_ahead_ = false;  // bhot_ holds newer spring states than bonds_ (the bond loop ran since)
   bool bhot_stale_ = true;           // bonds_ changed since bhot_ was built
   SVec<BondPrm> bprm_;
-  std::unordered_map<std::array<uint64_t, 8>, uint32_t, BondPrmHash> bprm_index_;
+  std::map<std::array<uint64_t, 8>, uint32_t> bprm_index_;  // a set's bits -> its row of bprm_
   // the bonds with a deferred side, ascending, and their forces of the last step (bond_forces)
   std::vector<uint32_t> bdefer_;
   int bchunks_ = 1;  // the bond loop's chunks, one per thread (build_bond_hot)

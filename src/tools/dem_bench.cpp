@@ -285,7 +285,8 @@ void crusher(const std::string& config, const std::string& from_run, long steps,
   const std::size_t nc = w.n_contacts();
   const auto p1 = dem.product();
   std::printf("case crusher particles %.0f steps %ld threads %d wall_s %.3f particle_steps_per_s %.4g contacts %zu "
-              "contacts_per_particle %.2f neighbour_pairs %zu bonds %zu coupling_steps %ld sim_s %.4g wall_h_per_sim_s %.2f\n",
+              "contacts_per_particle %.2f neighbour_pairs %zu bonds %zu coupling_steps %ld sim_s %.4g "
+              "wall_h_per_sim_s %.2f\n",
               n1, dem_steps, w.threads(), wall, n * dem_steps / wall, nc, 2.0 * nc / std::max(n1, 1.0), w.n_pairs(),
               w.n_bonds_intact(), steps, sim_s, wall / sim_s / 3600.0);
   // Where the time goes. Bonds: the bond law and its forces on the particles (World phase 3); integration: the kicks
